@@ -1,0 +1,351 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkMultiscaleOctreeBuilder.h"
+
+#include "plodOctreeBuilder.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMultiscaleOctree.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTimerLog.h"
+
+#include <cmath>
+#include <vector>
+
+vtkStandardNewMacro(vtkMultiscaleOctreeBuilder);
+
+namespace
+{
+/// Triangles of the polygons and strips of a vtkPolyData, with the cell id of each.
+void CollectTriangles(vtkPolyData* pd, std::vector<int64_t>& tris, std::vector<vtkIdType>& cellOf)
+{
+  const vtkIdType base = pd->GetNumberOfVerts() + pd->GetNumberOfLines();
+  vtkIdType cellId = base;
+  auto polys = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
+  for (polys->GoToFirstCell(); !polys->IsDoneWithTraversal(); polys->GoToNextCell(), ++cellId)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    polys->GetCurrentCell(n, ids);
+    for (vtkIdType k = 1; k + 1 < n; ++k)
+    {
+      tris.push_back(ids[0]);
+      tris.push_back(ids[k]);
+      tris.push_back(ids[k + 1]);
+      cellOf.push_back(cellId);
+    }
+  }
+  auto strips = vtk::TakeSmartPointer(pd->GetStrips()->NewIterator());
+  for (strips->GoToFirstCell(); !strips->IsDoneWithTraversal(); strips->GoToNextCell(), ++cellId)
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    strips->GetCurrentCell(n, ids);
+    for (vtkIdType k = 0; k + 2 < n; ++k)
+    {
+      // every other triangle of a strip is reversed to keep a consistent orientation
+      const bool odd = (k & 1) != 0;
+      tris.push_back(ids[k]);
+      tris.push_back(odd ? ids[k + 2] : ids[k + 1]);
+      tris.push_back(odd ? ids[k + 1] : ids[k + 2]);
+      cellOf.push_back(cellId);
+    }
+  }
+}
+
+/// First component of a named array as floats, or empty when absent.
+bool FetchValues(vtkDataArray* a, std::vector<float>& out)
+{
+  if (!a)
+  {
+    return false;
+  }
+  const vtkIdType n = a->GetNumberOfTuples();
+  out.resize(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    out[i] = static_cast<float>(a->GetComponent(i, 0));
+  }
+  return true;
+}
+}
+
+//------------------------------------------------------------------------------
+vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
+  : FinestLevel(-1)
+  , VertexRule(VERTEX_MEAN)
+  , DiffuseArrayName(nullptr)
+  , SpecularArrayName(nullptr)
+  , UniformDiffuse(1.0)
+  , UniformSpecular(0.0)
+  , ViewpointArrayName(nullptr)
+  , UseViewpoint(false)
+  , MemoryLimit(4096.0)
+  , MultiThreaded(true)
+  , NumberOfCrossings(0)
+  , NumberOfSkippedTriangles(0)
+  , NumberOfInputTriangles(0)
+  , BuildTime(0.0)
+{
+  this->Viewpoint[0] = this->Viewpoint[1] = this->Viewpoint[2] = 0.0;
+}
+
+//------------------------------------------------------------------------------
+vtkMultiscaleOctreeBuilder::~vtkMultiscaleOctreeBuilder()
+{
+  this->SetDiffuseArrayName(nullptr);
+  this->SetSpecularArrayName(nullptr);
+  this->SetViewpointArrayName(nullptr);
+}
+
+//------------------------------------------------------------------------------
+int vtkMultiscaleOctreeBuilder::GetMaximumFinestLevel()
+{
+  return plod::MaxFinestLevel;
+}
+
+//------------------------------------------------------------------------------
+int vtkMultiscaleOctreeBuilder::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkMultiscaleOctreeBuilder::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPointSet* input = vtkPointSet::GetData(inputVector[0]);
+  vtkMultiscaleOctree* output = vtkMultiscaleOctree::GetData(outputVector);
+  if (!output)
+  {
+    vtkErrorMacro("No output octree.");
+    return 0;
+  }
+  output->Initialize();
+  this->NumberOfCrossings = 0;
+  this->NumberOfSkippedTriangles = 0;
+  this->NumberOfInputTriangles = 0;
+  this->BuildTime = 0.0;
+
+  // parameters
+  if (this->FinestLevel < -1 || this->FinestLevel > plod::MaxFinestLevel)
+  {
+    vtkErrorMacro("FinestLevel " << this->FinestLevel << " is outside [-1, "
+                                 << plod::MaxFinestLevel << "] (-1 chooses it from the input).");
+    return 0;
+  }
+  if (!(this->MemoryLimit > 0) || !std::isfinite(this->MemoryLimit))
+  {
+    vtkErrorMacro("MemoryLimit must be a positive number of MiB, not " << this->MemoryLimit);
+    return 0;
+  }
+  if (!std::isfinite(this->UniformDiffuse) || !std::isfinite(this->UniformSpecular))
+  {
+    vtkErrorMacro("UniformDiffuse and UniformSpecular must be finite.");
+    return 0;
+  }
+  if (!input || input->GetNumberOfPoints() == 0)
+  {
+    vtkDebugMacro("Empty input: empty octree.");
+    return 1;
+  }
+
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+  plod::BuildInput in;
+  const vtkIdType np = input->GetNumberOfPoints();
+  std::vector<double> points(3 * np);
+  {
+    vtkDataArray* pts = input->GetPoints()->GetData();
+    if (pts->GetDataType() == VTK_DOUBLE && pts->GetNumberOfComponents() == 3)
+    {
+      const double* src = static_cast<const double*>(pts->GetVoidPointer(0));
+      std::copy(src, src + 3 * np, points.begin());
+    }
+    else
+    {
+      for (vtkIdType i = 0; i < np; ++i)
+      {
+        pts->GetTuple(i, &points[3 * i]);
+      }
+    }
+  }
+  in.NumberOfPoints = np;
+  in.Points = points.data();
+
+  std::vector<int64_t> tris;
+  std::vector<vtkIdType> cellOf;
+  if (vtkPolyData* pd = vtkPolyData::SafeDownCast(input))
+  {
+    CollectTriangles(pd, tris, cellOf);
+  }
+  in.NumberOfTriangles = static_cast<int64_t>(tris.size() / 3);
+  in.Triangles = tris.empty() ? nullptr : tris.data();
+  this->NumberOfInputTriangles = in.NumberOfTriangles;
+  const bool cloud = in.NumberOfTriangles == 0;
+
+  // normals and orientation (clouds only)
+  std::vector<float> normals;
+  std::vector<double> viewpoints;
+  if (cloud)
+  {
+    if (vtkDataArray* n = input->GetPointData()->GetNormals())
+    {
+      if (n->GetNumberOfComponents() == 3)
+      {
+        normals.resize(3 * np);
+        for (vtkIdType i = 0; i < np; ++i)
+        {
+          double t[3];
+          n->GetTuple(i, t);
+          for (int a = 0; a < 3; ++a)
+          {
+            normals[3 * i + a] = static_cast<float>(t[a]);
+          }
+        }
+        in.PointNormals = normals.data();
+      }
+    }
+    if (this->ViewpointArrayName)
+    {
+      vtkDataArray* v = input->GetPointData()->GetArray(this->ViewpointArrayName);
+      if (!v || v->GetNumberOfComponents() != 3)
+      {
+        vtkWarningMacro("Viewpoint array '" << this->ViewpointArrayName
+                                            << "' missing or not 3-component: ignored.");
+      }
+      else
+      {
+        viewpoints.resize(3 * np);
+        for (vtkIdType i = 0; i < np; ++i)
+        {
+          v->GetTuple(i, &viewpoints[3 * i]);
+        }
+        in.PointViewpoints = viewpoints.data();
+      }
+    }
+    in.HasViewpoint = this->UseViewpoint;
+    std::copy(this->Viewpoint, this->Viewpoint + 3, in.Viewpoint);
+  }
+
+  // material
+  std::vector<float> pointDiffuse, pointSpecular, cellDiffuse, cellSpecular, triDiffuse,
+    triSpecular;
+  bool hasMaterial = false;
+  auto material = [&](const char* name, std::vector<float>& pointValues,
+                    std::vector<float>& cellValues, std::vector<float>& triValues,
+                    const float*& pointOut, const float*& triOut) {
+    if (!name)
+    {
+      return;
+    }
+    if (FetchValues(input->GetPointData()->GetArray(name), pointValues))
+    {
+      pointOut = pointValues.data();
+      hasMaterial = true;
+    }
+    else if (!cloud && FetchValues(input->GetCellData()->GetArray(name), cellValues))
+    {
+      triValues.resize(cellOf.size());
+      for (size_t t = 0; t < cellOf.size(); ++t)
+      {
+        triValues[t] = cellValues[cellOf[t]];
+      }
+      triOut = triValues.data();
+      hasMaterial = true;
+    }
+    else
+    {
+      vtkWarningMacro("Material array '" << name << "' not found: uniform value used.");
+    }
+  };
+  material(this->DiffuseArrayName, pointDiffuse, cellDiffuse, triDiffuse, in.PointDiffuse,
+    in.TriangleDiffuse);
+  material(this->SpecularArrayName, pointSpecular, cellSpecular, triSpecular, in.PointSpecular,
+    in.TriangleSpecular);
+  in.UniformDiffuse = static_cast<float>(this->UniformDiffuse);
+  in.UniformSpecular = static_cast<float>(this->UniformSpecular);
+
+  plod::BuildParameters params;
+  params.FinestLevel = this->FinestLevel;
+  params.Rule = this->VertexRule == VERTEX_QEF ? plod::VertexRule::QEF : plod::VertexRule::Mean;
+  params.MemoryLimit = this->MemoryLimit * 1024.0 * 1024.0;
+
+  plod::ParallelFor pfor = plod::SerialFor;
+  if (this->MultiThreaded)
+  {
+    pfor = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
+      vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+        [&body](vtkIdType b, vtkIdType e) { body(b, e); });
+    };
+  }
+  auto progress = [this](double f) {
+    this->UpdateProgress(f);
+    return !this->GetAbortExecute();
+  };
+  auto allocate = [output](int64_t n) {
+    output->AllocateNodes(static_cast<vtkIdType>(n));
+    plod::OctreeArrays arrays;
+    output->GetArrays(arrays);
+    return arrays;
+  };
+
+  const plod::BuildResult result = plod::BuildOctree(in, params, allocate, pfor, progress);
+  timer->StopTimer();
+  this->BuildTime = timer->GetElapsedTime();
+  this->NumberOfCrossings = result.NumberOfCrossings;
+  this->NumberOfSkippedTriangles = result.NumberOfSkippedTriangles;
+  if (!result.Ok)
+  {
+    output->Initialize();
+    if (result.Aborted)
+    {
+      vtkWarningMacro("Build aborted: empty octree.");
+      return 1;
+    }
+    vtkErrorMacro("Cannot build the octree: " << result.Error << ".");
+    return 1;
+  }
+  output->SetGeometry(result.Origin, result.RootEdge, result.FinestLevel);
+  output->SetHasMaterialArrays(hasMaterial);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctreeBuilder::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FinestLevel: " << this->FinestLevel << "\n";
+  os << indent << "VertexRule: " << (this->VertexRule == VERTEX_QEF ? "QEF" : "Mean") << "\n";
+  os << indent << "DiffuseArrayName: " << (this->DiffuseArrayName ? this->DiffuseArrayName : "(none)")
+     << "\n";
+  os << indent
+     << "SpecularArrayName: " << (this->SpecularArrayName ? this->SpecularArrayName : "(none)")
+     << "\n";
+  os << indent << "UniformDiffuse: " << this->UniformDiffuse << "\n";
+  os << indent << "UniformSpecular: " << this->UniformSpecular << "\n";
+  os << indent
+     << "ViewpointArrayName: " << (this->ViewpointArrayName ? this->ViewpointArrayName : "(none)")
+     << "\n";
+  os << indent << "Viewpoint: (" << this->Viewpoint[0] << ", " << this->Viewpoint[1] << ", "
+     << this->Viewpoint[2] << ")\n";
+  os << indent << "UseViewpoint: " << (this->UseViewpoint ? "On" : "Off") << "\n";
+  os << indent << "MemoryLimit: " << this->MemoryLimit << " MiB\n";
+  os << indent << "MultiThreaded: " << (this->MultiThreaded ? "On" : "Off") << "\n";
+  os << indent << "NumberOfInputTriangles: " << this->NumberOfInputTriangles << "\n";
+  os << indent << "NumberOfCrossings: " << this->NumberOfCrossings << "\n";
+  os << indent << "NumberOfSkippedTriangles: " << this->NumberOfSkippedTriangles << "\n";
+  os << indent << "BuildTime: " << this->BuildTime << " s\n";
+}
