@@ -121,6 +121,15 @@ struct Quadric
   }
 };
 
+/// Angle between two unit vectors, accurate near 0 and pi (unlike acos of the dot product).
+inline double AngleBetween(const double a[3], const double b[3])
+{
+  const double c[3] = { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+    a[0] * b[1] - a[1] * b[0] };
+  return std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+}
+
 /// Per-node accumulators used during the build only.
 struct NodeAccum
 {
@@ -1183,16 +1192,15 @@ BuildResult BuildOctree(const BuildInput& in, const BuildParameters& params,
       {
         for (int k = 0; k < 3; ++k)
           axis[k] = nsum[k] / len;
-        double cmin = 1.0;
+        theta = 0;
         for (int64_t s = finestStart[ci]; s < finestStart[ci + 1]; ++s)
         {
           double n[3], w;
           const double* at;
           sampleNormal(items[s], n, w, at);
           if (w > 0)
-            cmin = std::min(cmin, n[0] * axis[0] + n[1] * axis[1] + n[2] * axis[2]);
+            theta = std::max(theta, AngleBetween(n, axis));
         }
-        theta = std::acos(std::max(-1.0, std::min(1.0, cmin)));
       }
       for (int k = 0; k < 3; ++k)
       {
@@ -1331,10 +1339,9 @@ BuildResult BuildOctree(const BuildInput& in, const BuildParameters& params,
           {
             if (child[c] < 0)
               continue;
-            const float* cn = &out.ConeAxis[3 * child[c]];
-            const double d = axis[0] * cn[0] + axis[1] * cn[1] + axis[2] * cn[2];
-            theta = std::max(theta,
-              std::acos(std::max(-1.0, std::min(1.0, d))) + double(out.ConeAngle[child[c]]));
+            const float* cf = &out.ConeAxis[3 * child[c]];
+            const double cn[3] = { cf[0], cf[1], cf[2] };
+            theta = std::max(theta, AngleBetween(axis, cn) + double(out.ConeAngle[child[c]]));
           }
           theta = std::min(theta, Pi);
         }

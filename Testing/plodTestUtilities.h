@@ -1,0 +1,300 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file plodTestUtilities.h
+ * @brief Inputs the tests and benchmarks generate, readers for the Stanford data, and an
+ * observer that captures VTK errors. Header-only, used by tests, benchmarks and examples.
+ */
+#ifndef plodTestUtilities_h
+#define plodTestUtilities_h
+
+#include "vtkCellArray.h"
+#include "vtkCommand.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkMath.h"
+#include "vtkNew.h"
+#include "vtkPLYReader.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkSphereSource.h"
+#include "vtkTransform.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <sys/stat.h>
+#include <vector>
+
+namespace plodtest
+{
+
+/// Records the error and warning messages sent to it.
+class ErrorRecorder : public vtkCommand
+{
+public:
+  static ErrorRecorder* New() { return new ErrorRecorder; }
+  void Execute(vtkObject*, unsigned long event, void* data) override
+  {
+    const std::string text = data ? static_cast<const char*>(data) : "";
+    (event == vtkCommand::ErrorEvent ? this->Errors : this->Warnings).push_back(text);
+  }
+  bool HasError(const std::string& part = "") const
+  {
+    for (const auto& e : this->Errors)
+    {
+      if (e.find(part) != std::string::npos)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+  std::vector<std::string> Errors;
+  std::vector<std::string> Warnings;
+};
+
+/// Folder of the Stanford scans (PLOD_DATA_DIR, else ../shared/data beside the source tree), or
+/// "" when it is absent.
+inline std::string DataDir()
+{
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("PLOD_DATA_DIR"))
+  {
+    candidates.emplace_back(env);
+  }
+#ifdef PLOD_SOURCE_DIR
+  candidates.emplace_back(std::string(PLOD_SOURCE_DIR) + "/../shared/data");
+#endif
+  for (const auto& c : candidates)
+  {
+    struct stat st;
+    if (stat((c + "/bun_zipper.ply").c_str(), &st) == 0)
+    {
+      return c;
+    }
+  }
+  return "";
+}
+
+/// Triangle mesh from flat coordinate and index lists.
+inline vtkSmartPointer<vtkPolyData> MakeMesh(
+  const std::vector<double>& xyz, const std::vector<vtkIdType>& tri)
+{
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  for (size_t i = 0; i + 2 < xyz.size(); i += 3)
+  {
+    pts->InsertNextPoint(xyz[i], xyz[i + 1], xyz[i + 2]);
+  }
+  vtkNew<vtkCellArray> polys;
+  for (size_t i = 0; i + 2 < tri.size(); i += 3)
+  {
+    const vtkIdType ids[3] = { tri[i], tri[i + 1], tri[i + 2] };
+    polys->InsertNextCell(3, ids);
+  }
+  pd->SetPoints(pts);
+  pd->SetPolys(polys);
+  return pd;
+}
+
+/// Axis-aligned box [lo, hi]^3 as 12 outward-oriented triangles.
+inline vtkSmartPointer<vtkPolyData> MakeCube(double lo, double hi)
+{
+  std::vector<double> xyz;
+  for (int k = 0; k < 8; ++k)
+  {
+    xyz.push_back(k & 1 ? hi : lo);
+    xyz.push_back(k & 2 ? hi : lo);
+    xyz.push_back(k & 4 ? hi : lo);
+  }
+  // quads listed counter-clockwise seen from outside
+  const int quads[6][4] = { { 0, 4, 6, 2 }, { 1, 3, 7, 5 }, { 0, 1, 5, 4 }, { 2, 6, 7, 3 },
+    { 0, 2, 3, 1 }, { 4, 5, 7, 6 } };
+  std::vector<vtkIdType> tri;
+  for (auto& q : quads)
+  {
+    tri.insert(tri.end(), { q[0], q[1], q[2], q[0], q[2], q[3] });
+  }
+  return MakeMesh(xyz, tri);
+}
+
+/// Regular tetrahedron with outward triangles, centred at the origin.
+inline vtkSmartPointer<vtkPolyData> MakeTetrahedron()
+{
+  return MakeMesh({ 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1 },
+    { 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2 });
+}
+
+/// Unit square [0,1]^2 at height z, normal +z (two triangles sharing the diagonal).
+inline vtkSmartPointer<vtkPolyData> MakePlane(double z)
+{
+  return MakeMesh({ 0, 0, z, 1, 0, z, 1, 1, z, 0, 1, z }, { 0, 1, 2, 0, 2, 3 });
+}
+
+/**
+ * Closed sphere-like surface: a UV sphere of radius `radius` at `centre`, displaced radially by
+ * a random sum of low-frequency waves of relative amplitude `noise` (star-shaped, so it never
+ * self-intersects for noise < 0.5). About 2 * res * res triangles.
+ */
+inline vtkSmartPointer<vtkPolyData> MakeBlob(unsigned seed, int res, double noise,
+  double radius = 1.0, const double centre[3] = nullptr)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(res);
+  sphere->SetPhiResolution(res);
+  sphere->SetRadius(1.0);
+  sphere->SetOutputPointsPrecision(vtkAlgorithm::DOUBLE_PRECISION);
+  sphere->Update();
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->DeepCopy(sphere->GetOutput());
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  double waves[6][4];
+  for (auto& w : waves)
+  {
+    for (double& c : w)
+    {
+      c = U(rng);
+    }
+  }
+  vtkPoints* pts = pd->GetPoints();
+  for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    pts->GetPoint(i, x);
+    double r = 1.0;
+    for (int k = 0; k < 6; ++k)
+    {
+      const double f = 1.0 + 2.0 * k;
+      r += noise / 6.0 *
+        std::sin(f * (waves[k][0] * x[0] + waves[k][1] * x[1] + waves[k][2] * x[2]) + 3 * waves[k][3]);
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      x[a] = x[a] * r * radius + (centre ? centre[a] : 0.0);
+    }
+    pts->SetPoint(i, x);
+  }
+  pd->GetPointData()->Initialize();
+  return pd;
+}
+
+/// Random open triangle soup in the unit cube (for invariants that do not need closure).
+inline vtkSmartPointer<vtkPolyData> MakeSoup(unsigned seed, int triangles, double size)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<double> xyz;
+  std::vector<vtkIdType> tri;
+  for (int t = 0; t < triangles; ++t)
+  {
+    const double c[3] = { U(rng), U(rng), U(rng) };
+    for (int k = 0; k < 3; ++k)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        xyz.push_back(c[a] + size * (U(rng) - 0.5));
+      }
+      tri.push_back(3 * t + k);
+    }
+  }
+  return MakeMesh(xyz, tri);
+}
+
+/// Reads a PLY file (mesh or range scan); nullptr when it cannot be read.
+inline vtkSmartPointer<vtkPolyData> ReadPLY(const std::string& file)
+{
+  vtkNew<vtkPLYReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  if (reader->GetOutput()->GetNumberOfPoints() == 0)
+  {
+    return nullptr;
+  }
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->ShallowCopy(reader->GetOutput());
+  return pd;
+}
+
+/**
+ * The Stanford bunny range scans listed in `dir`/bun.conf, merged into one point cloud in the
+ * common frame (each `bmesh file tx ty tz qx qy qz qw` maps scan points by p' = R(q) p + t),
+ * with a 3-component point array "ScannerPosition": each scan's scanner, taken at (0, 0, 1) m
+ * in its own frame (the Cyberware scanner looks down -z at the object near the origin) and
+ * moved by the same transform. nullptr when the folder or a scan is missing.
+ */
+inline vtkSmartPointer<vtkPolyData> ReadBunnyScans(const std::string& dir, int* scans = nullptr)
+{
+  std::ifstream conf(dir + "/bun.conf");
+  if (!conf)
+  {
+    return nullptr;
+  }
+  vtkNew<vtkPoints> merged;
+  merged->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> scanner;
+  scanner->SetName("ScannerPosition");
+  scanner->SetNumberOfComponents(3);
+  std::string line;
+  int count = 0;
+  while (std::getline(conf, line))
+  {
+    std::istringstream is(line);
+    std::string kind, file;
+    double t[3], q[4];
+    if (!(is >> kind) || kind != "bmesh" || !(is >> file >> t[0] >> t[1] >> t[2] >> q[0] >> q[1] >> q[2] >> q[3]))
+    {
+      continue;
+    }
+    auto scan = ReadPLY(dir + "/" + file);
+    if (!scan)
+    {
+      return nullptr;
+    }
+    // quaternion (x, y, z, w) to rotation matrix
+    const double w = q[3], x = q[0], y = q[1], z = q[2];
+    const double R[3][3] = { { 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w) },
+      { 2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w) },
+      { 2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y) } };
+    auto apply = [&](const double p[3], double out[3]) {
+      for (int a = 0; a < 3; ++a)
+      {
+        out[a] = R[a][0] * p[0] + R[a][1] * p[1] + R[a][2] * p[2] + t[a];
+      }
+    };
+    const double eye[3] = { 0, 0, 1 };
+    double eyeWorld[3];
+    apply(eye, eyeWorld);
+    for (vtkIdType i = 0; i < scan->GetNumberOfPoints(); ++i)
+    {
+      double p[3], o[3];
+      scan->GetPoint(i, p);
+      apply(p, o);
+      merged->InsertNextPoint(o);
+      scanner->InsertNextTuple(eyeWorld);
+    }
+    ++count;
+  }
+  if (scans)
+  {
+    *scans = count;
+  }
+  if (count == 0)
+  {
+    return nullptr;
+  }
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->SetPoints(merged);
+  pd->GetPointData()->AddArray(scanner);
+  return pd;
+}
+
+} // namespace plodtest
+
+#endif
