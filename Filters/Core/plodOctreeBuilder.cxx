@@ -177,36 +177,58 @@ struct EdgeSums
   uint32_t Count[12] = { 0 };
 };
 
-/// Stable LSD radix sort of items by key, `bits` significant key bits.
-void RadixSort(std::vector<Item>& items, int bits)
+/**
+ * Stable LSD radix sort of items by key (`bits` significant key bits), parallel over a fixed
+ * number of chunks: per-chunk histograms, one prefix sum over (digit, chunk), then each chunk
+ * scatters its items. The result is the same for any number of threads.
+ */
+void RadixSort(std::vector<Item>& items, int bits, const ParallelFor& pfor = SerialFor)
 {
-  if (bits <= 0 || items.size() < 2)
+  const int64_t n = static_cast<int64_t>(items.size());
+  if (bits <= 0 || n < 2)
   {
     return;
   }
   const int passes = (bits + 10) / 11;
   const int digit = (bits + passes - 1) / passes; // balanced digits, at most 11 bits
   const size_t buckets = size_t(1) << digit;
+  const int64_t chunks = n < 65536 ? 1 : 16;
+  const int64_t chunkSize = (n + chunks - 1) / chunks;
   std::vector<Item> tmp(items.size());
-  std::vector<size_t> count(buckets);
+  std::vector<size_t> count(buckets * chunks);
   for (int shift = 0; shift < bits; shift += digit)
   {
     std::fill(count.begin(), count.end(), 0);
-    for (const Item& it : items)
-    {
-      ++count[(it.Key >> shift) & (buckets - 1)];
-    }
+    pfor(chunks, 1, [&](int64_t cb, int64_t ce) {
+      for (int64_t c = cb; c < ce; ++c)
+      {
+        size_t* h = &count[c * buckets];
+        for (int64_t i = c * chunkSize, e = std::min(n, (c + 1) * chunkSize); i < e; ++i)
+        {
+          ++h[(items[i].Key >> shift) & (buckets - 1)];
+        }
+      }
+    });
     size_t sum = 0;
-    for (size_t& c : count)
+    for (size_t d = 0; d < buckets; ++d)
     {
-      const size_t v = c;
-      c = sum;
-      sum += v;
+      for (int64_t c = 0; c < chunks; ++c)
+      {
+        const size_t v = count[c * buckets + d];
+        count[c * buckets + d] = sum;
+        sum += v;
+      }
     }
-    for (const Item& it : items)
-    {
-      tmp[count[(it.Key >> shift) & (buckets - 1)]++] = it;
-    }
+    pfor(chunks, 1, [&](int64_t cb, int64_t ce) {
+      for (int64_t c = cb; c < ce; ++c)
+      {
+        size_t* h = &count[c * buckets];
+        for (int64_t i = c * chunkSize, e = std::min(n, (c + 1) * chunkSize); i < e; ++i)
+        {
+          tmp[h[(items[i].Key >> shift) & (buckets - 1)]++] = items[i];
+        }
+      }
+    });
     items.swap(tmp);
   }
 }
@@ -499,7 +521,7 @@ std::vector<CrossingRecord> CloudCrossings(const Prepared& P, uint32_t cells,
   {
     ++bits;
   }
-  RadixSort(corners, 3 * bits);
+  RadixSort(corners, 3 * bits, pfor);
   std::vector<uint64_t> cornerKeys;
   for (const Item& it : corners)
   {
@@ -737,7 +759,7 @@ void Prepare(const BuildInput& in, const std::vector<char>& used, const double o
         uint64_t(i) });
     }
   }
-  RadixSort(order, 3 * level);
+  RadixSort(order, 3 * level, pfor);
   const int64_t np = static_cast<int64_t>(order.size());
   P.NumberOfPoints = np;
   P.U.resize(3 * np);
@@ -811,7 +833,7 @@ void Prepare(const BuildInput& in, const std::vector<char>& used, const double o
         uint64_t(t) };
     }
   });
-  RadixSort(tris, 3 * level);
+  RadixSort(tris, 3 * level, pfor);
   P.Tri.resize(3 * nt);
   if (in.TriangleDiffuse)
   {
@@ -1097,7 +1119,7 @@ BuildResult BuildOctree(const BuildInput& in, const BuildParameters& params,
                               ClampCell((x[2] - origin[2]) / h, cells)),
             uint64_t(i) });
         }
-        RadixSort(order, 3 * level);
+        RadixSort(order, 3 * level, pfor);
         viewpoints.resize(3 * P.NumberOfPoints);
         for (int64_t r = 0; r < P.NumberOfPoints; ++r)
           for (int a = 0; a < 3; ++a)
@@ -1200,7 +1222,7 @@ BuildResult BuildOctree(const BuildInput& in, const BuildParameters& params,
   {
     return result;
   }
-  RadixSort(items, 3 * level);
+  RadixSort(items, 3 * level, pfor);
   if (!report(0.6, "sort"))
   {
     return result;

@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// PerceptualLOD's main program. Today: builds the multiscale octree of a model and prints what
+// it holds, level by level. Usage:
+//
+//   PerceptualLODMain [model.ply|.stl|.obj|.vtp] [--level N] [--qef] [--serial]
+//
+// Without a file it uses a generated detailed model (a displaced sphere of about 500k
+// triangles), so it runs anywhere.
+#include "plodTestUtilities.h"
+
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkMultiscaleOctree.h"
+#include "vtkMultiscaleOctreeBuilder.h"
+#include "vtkNew.h"
+#include "vtkOBJReader.h"
+#include "vtkPolyData.h"
+#include "vtkSTLReader.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkXMLPolyDataReader.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace
+{
+vtkSmartPointer<vtkPolyData> ReadModel(const std::string& file)
+{
+  auto ends = [&](const char* ext) {
+    const size_t n = std::strlen(ext);
+    if (file.size() < n)
+      return false;
+    std::string tail = file.substr(file.size() - n);
+    std::transform(tail.begin(), tail.end(), tail.begin(), ::tolower);
+    return tail == ext;
+  };
+  vtkSmartPointer<vtkAlgorithm> reader;
+  if (ends(".ply"))
+  {
+    return plodtest::ReadPLY(file);
+  }
+  if (ends(".stl"))
+  {
+    auto r = vtkSmartPointer<vtkSTLReader>::New();
+    r->SetFileName(file.c_str());
+    reader = r;
+  }
+  else if (ends(".obj"))
+  {
+    auto r = vtkSmartPointer<vtkOBJReader>::New();
+    r->SetFileName(file.c_str());
+    reader = r;
+  }
+  else if (ends(".vtp"))
+  {
+    auto r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    r->SetFileName(file.c_str());
+    reader = r;
+  }
+  else
+  {
+    return nullptr;
+  }
+  reader->Update();
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->ShallowCopy(reader->GetOutputDataObject(0));
+  return pd->GetNumberOfPoints() > 0 ? pd : nullptr;
+}
+}
+
+int main(int argc, char* argv[])
+{
+  std::string file;
+  int level = -1;
+  bool qef = false, serial = false;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if (a == "--level" && i + 1 < argc)
+      level = std::atoi(argv[++i]);
+    else if (a == "--qef")
+      qef = true;
+    else if (a == "--serial")
+      serial = true;
+    else if (a == "-h" || a == "--help")
+    {
+      std::printf("usage: %s [model.ply|.stl|.obj|.vtp] [--level N] [--qef] [--serial]\n", argv[0]);
+      return 0;
+    }
+    else
+      file = a;
+  }
+  vtkSmartPointer<vtkPolyData> model;
+  if (file.empty())
+  {
+    std::printf("model: generated displaced sphere\n");
+    model = plodtest::MakeBlob(11, 500, 0.2);
+  }
+  else
+  {
+    model = ReadModel(file);
+    if (!model)
+    {
+      std::fprintf(stderr, "cannot read a model from '%s' (PLY, STL, OBJ or VTP)\n", file.c_str());
+      return 1;
+    }
+    std::printf("model: %s\n", file.c_str());
+  }
+  std::printf("input: %lld points, %lld polygons\n",
+    static_cast<long long>(model->GetNumberOfPoints()),
+    static_cast<long long>(model->GetNumberOfPolys() + model->GetNumberOfStrips()));
+
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(model);
+  builder->SetFinestLevel(level);
+  if (qef)
+    builder->SetVertexRuleToQEF();
+  builder->SetMultiThreaded(!serial);
+  builder->Update();
+  vtkMultiscaleOctree* octree = builder->GetOutput();
+  if (octree->GetNumberOfNodes() == 0)
+  {
+    std::fprintf(stderr, "the octree is empty\n");
+    return 1;
+  }
+  std::printf("octree: %lld nodes, finest level %d, root edge %g at (%g, %g, %g)\n",
+    static_cast<long long>(octree->GetNumberOfNodes()), octree->GetFinestLevel(),
+    octree->GetRootEdge(), octree->GetOrigin()[0], octree->GetOrigin()[1],
+    octree->GetOrigin()[2]);
+  std::printf("build: %.1f ms (%s), %lld edge crossings, %lld degenerate triangles skipped\n",
+    builder->GetBuildTime() * 1e3, serial ? "1 thread" : "vtkSMPTools",
+    static_cast<long long>(builder->GetNumberOfCrossings()),
+    static_cast<long long>(builder->GetNumberOfSkippedTriangles()));
+  std::printf("memory: %.1f MiB, %.1f bytes per node\n", octree->GetActualMemorySize() / 1024.0,
+    octree->GetActualMemorySize() * 1024.0 / octree->GetNumberOfNodes());
+
+  vtkFieldData* nd = octree->GetNodeData();
+  auto* lv = vtkUnsignedCharArray::SafeDownCast(nd->GetArray("Level"));
+  auto* angle = vtkFloatArray::SafeDownCast(nd->GetArray("ConeAngle"));
+  auto* shape = vtkFloatArray::SafeDownCast(nd->GetArray("ShapeError"));
+  std::printf("\nlevel     nodes   cell edge   cone angle (deg) mean/max   shape error mean/max\n");
+  for (int l = 0; l <= octree->GetFinestLevel(); ++l)
+  {
+    long long count = 0;
+    double am = 0, ax = 0, sm = 0, sx = 0;
+    for (vtkIdType n = 0; n < octree->GetNumberOfNodes(); ++n)
+    {
+      if (lv->GetValue(n) != l)
+        continue;
+      ++count;
+      const double a = angle->GetValue(n) * 180.0 / 3.14159265358979;
+      am += a;
+      ax = std::max(ax, a);
+      sm += shape->GetValue(n);
+      sx = std::max(sx, double(shape->GetValue(n)));
+    }
+    std::printf("%5d %9lld   %9.3g   %8.1f / %6.1f            %9.3g / %9.3g\n", l, count,
+      octree->GetCellEdge(l), am / count, ax, sm / count, sx);
+  }
+  return 0;
+}

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs what PerceptualLOD needs on Debian bookworm (run as root). Skips apt when every
+# package is already there, so it is fast and works offline on a prepared machine.
+set -euo pipefail
+packages=(
+  cmake ninja-build g++ pkg-config
+  libvtk9-dev python3-vtk9 python3-numpy python3-matplotlib
+  libeigen3-dev libgtest-dev libbenchmark-dev
+  xvfb xauth libgl1-mesa-dri
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "Installing: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "All packages already installed."
+fi
