@@ -2,6 +2,7 @@
 #include "vtkMultiscaleOctree.h"
 
 #include "plodOctree.h"
+#include "plodPatches.h"
 
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -277,6 +278,19 @@ bool vtkMultiscaleOctree::CheckConsistency(std::string* why)
     *why = msg.str();
   }
   return ok;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultiscaleOctree::HasValidCut()
+{
+  plod::OctreeView v;
+  auto* cut = FetchArray<vtkUnsignedCharArray>(
+    this->NodeData, CutStateArrayName(), 1, this->GetNumberOfNodes());
+  if (!cut || !this->GetView(v))
+  {
+    return false;
+  }
+  return plod::ValidateCut(v, cut->GetPointer(0));
 }
 
 //------------------------------------------------------------------------------

@@ -160,6 +160,25 @@ public:
   ///@}
 
   ///@{
+  /**
+   * The cut travels with the octree as the unsigned char node array "CutState": 0 not in the
+   * cut, 1 in the cut and drawn, 2 in the cut but not drawn (culled or back-facing). A valid cut
+   * gives every finest cell exactly one ancestor-or-self in the cut.
+   * vtkMultiscaleOctreeCutter and vtkPerceptualLODSelector make it, vtkMultiscalePatchGenerator
+   * reads it.
+   */
+  static const char* CutStateArrayName() { return "CutState"; }
+  enum CutStates
+  {
+    NOT_IN_CUT = 0,
+    CUT_DRAWN = 1,
+    CUT_HIDDEN = 2
+  };
+  /// True when a CutState array exists and forms a valid cut.
+  bool HasValidCut();
+  ///@}
+
+  ///@{
   /// Retrieve an instance of this class from an information object.
   static vtkMultiscaleOctree* GetData(vtkInformation* info);
   static vtkMultiscaleOctree* GetData(vtkInformationVector* v, int i = 0);

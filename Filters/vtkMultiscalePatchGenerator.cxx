@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkMultiscalePatchGenerator.h"
+
+#include "plodPatches.h"
+
+#include "vtkCellArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMultiscaleOctree.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkTimerLog.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+vtkStandardNewMacro(vtkMultiscalePatchGenerator);
+
+struct vtkMultiscalePatchGenerator::Internals
+{
+  plod::PatchWorkspace Workspace;
+  plod::PatchResult Result;
+  std::vector<uint8_t> FinestCut; // used when the input carries no cut
+};
+
+//------------------------------------------------------------------------------
+vtkMultiscalePatchGenerator::vtkMultiscalePatchGenerator()
+  : GenerateNormals(true)
+  , GenerateColors(false)
+  , GenerateNodeIds(false)
+  , NumberOfTriangles(0)
+  , NodesVisited(0)
+  , MergedPoints(0)
+  , GenerateTime(0)
+  , Internal(new Internals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkMultiscalePatchGenerator::~vtkMultiscalePatchGenerator() = default;
+
+//------------------------------------------------------------------------------
+int vtkMultiscalePatchGenerator::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkMultiscaleOctree");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkMultiscalePatchGenerator::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkMultiscaleOctree* input = vtkMultiscaleOctree::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->Initialize();
+  this->NumberOfTriangles = this->NodesVisited = this->MergedPoints = 0;
+  this->GenerateTime = 0;
+  if (!input || input->GetNumberOfNodes() == 0)
+  {
+    return 1;
+  }
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+  plod::OctreeView v;
+  if (!input->GetView(v))
+  {
+    vtkErrorMacro("The input octree's node arrays are missing or malformed.");
+    return 1;
+  }
+  const uint8_t* state = nullptr;
+  auto* cut = vtkUnsignedCharArray::SafeDownCast(
+    input->GetNodeData()->GetAbstractArray(vtkMultiscaleOctree::CutStateArrayName()));
+  if (cut && cut->GetNumberOfComponents() == 1 && cut->GetNumberOfTuples() == v.NumberOfNodes)
+  {
+    state = cut->GetPointer(0);
+  }
+  else
+  {
+    if (cut)
+    {
+      vtkWarningMacro("CutState array has the wrong size or type: drawing the finest level.");
+    }
+    this->Internal->FinestCut.resize(v.NumberOfNodes);
+    plod::UniformCut(v, v.FinestLevel, this->Internal->FinestCut.data());
+    state = this->Internal->FinestCut.data();
+  }
+
+  plod::PatchResult& r = this->Internal->Result;
+  std::string why;
+  if (!plod::GeneratePatches(v, state, r, &why, &this->Internal->Workspace))
+  {
+    vtkErrorMacro("Invalid cut: " << why << ".");
+    return 1;
+  }
+  this->UpdateProgress(0.5);
+
+  const vtkIdType np = static_cast<vtkIdType>(r.PointNode.size());
+  const vtkIdType nt = static_cast<vtkIdType>(r.Triangles.size() / 3);
+  // far from the origin relative to its size: keep double precision
+  const double far = std::max({ std::abs(v.Origin[0]), std::abs(v.Origin[1]),
+    std::abs(v.Origin[2]) });
+  vtkNew<vtkPoints> points;
+  points->SetDataType(far > 100.0 * v.RootEdge ? VTK_DOUBLE : VTK_FLOAT);
+  points->SetNumberOfPoints(np);
+  for (vtkIdType i = 0; i < np; ++i)
+  {
+    const float* x = &v.Vertex[3 * r.PointNode[i]];
+    points->SetPoint(i, v.Origin[0] + x[0], v.Origin[1] + x[1], v.Origin[2] + x[2]);
+  }
+  output->SetPoints(points);
+
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfValues(nt + 1);
+  connectivity->SetNumberOfValues(3 * nt);
+  vtkIdType* off = offsets->GetPointer(0);
+  vtkIdType* con = connectivity->GetPointer(0);
+  for (vtkIdType t = 0; t <= nt; ++t)
+  {
+    off[t] = 3 * t;
+  }
+  std::copy(r.Triangles.begin(), r.Triangles.end(), con);
+  vtkNew<vtkCellArray> polys;
+  polys->SetData(offsets, connectivity);
+  output->SetPolys(polys);
+
+  if (this->GenerateNormals)
+  {
+    vtkNew<vtkFloatArray> normals;
+    normals->SetName("Normals");
+    normals->SetNumberOfComponents(3);
+    normals->SetNumberOfTuples(np);
+    float* n = normals->GetPointer(0);
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      std::copy_n(&v.ConeAxis[3 * r.PointNode[i]], 3, n + 3 * i);
+    }
+    output->GetPointData()->SetNormals(normals);
+  }
+  if (this->GenerateColors)
+  {
+    vtkNew<vtkUnsignedCharArray> colors;
+    colors->SetName("Colors");
+    colors->SetNumberOfComponents(3);
+    colors->SetNumberOfTuples(np);
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      const float* d = &v.Diffuse[2 * r.PointNode[i]];
+      const double kd = std::min(1.0, std::max(0.0, 0.5 * (double(d[0]) + d[1])));
+      const unsigned char g = static_cast<unsigned char>(std::lround(255.0 * kd));
+      colors->SetTypedTuple(i, std::array<unsigned char, 3>{ g, g, g }.data());
+    }
+    output->GetPointData()->SetScalars(colors);
+  }
+  if (this->GenerateNodeIds)
+  {
+    vtkNew<vtkIdTypeArray> ids;
+    ids->SetName("OctreeNode");
+    ids->SetNumberOfTuples(np);
+    std::copy(r.PointNode.begin(), r.PointNode.end(), ids->GetPointer(0));
+    output->GetPointData()->AddArray(ids);
+  }
+  timer->StopTimer();
+  this->GenerateTime = timer->GetElapsedTime();
+  this->NumberOfTriangles = nt;
+  this->NodesVisited = r.NodesVisited;
+  this->MergedPoints = r.MergedPoints;
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiscalePatchGenerator::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "GenerateNormals: " << (this->GenerateNormals ? "On" : "Off") << "\n";
+  os << indent << "GenerateColors: " << (this->GenerateColors ? "On" : "Off") << "\n";
+  os << indent << "GenerateNodeIds: " << (this->GenerateNodeIds ? "On" : "Off") << "\n";
+  os << indent << "NumberOfTriangles: " << this->NumberOfTriangles << "\n";
+  os << indent << "NodesVisited: " << this->NodesVisited << "\n";
+  os << indent << "MergedPoints: " << this->MergedPoints << "\n";
+  os << indent << "GenerateTime: " << this->GenerateTime << " s\n";
+}
