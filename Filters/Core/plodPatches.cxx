@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <unordered_map>
 
@@ -95,6 +96,9 @@ bool ValidateCut(const OctreeView& v, const uint8_t* state, std::string* why)
 
 namespace
 {
+
+/// Squared relative cross-product length below which a triangle counts as flat (1e-6 squared).
+constexpr double ZeroAreaTolerance = 1e-12;
 
 /// Dual contouring walk (cell, face and edge procedures) with the cut cells as leaves.
 class Walker
@@ -235,7 +239,24 @@ public:
     }
   }
 
-  /// Splits a quad along its shorter diagonal; triangles repeating a node are skipped.
+  /// Twice the area of triangle (a, b, c) of node vertices.
+  double Area2(int32_t a, int32_t b, int32_t c) const
+  {
+    const float* x = &this->V.Vertex[3 * a];
+    const float* y = &this->V.Vertex[3 * b];
+    const float* z = &this->V.Vertex[3 * c];
+    const double u[3] = { double(y[0]) - x[0], double(y[1]) - x[1], double(y[2]) - x[2] };
+    const double w[3] = { double(z[0]) - x[0], double(z[1]) - x[1], double(z[2]) - x[2] };
+    const double n[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+      u[0] * w[1] - u[1] * w[0] };
+    return std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  }
+
+  /**
+   * Splits a quad into two triangles along the diagonal that gives no zero-area triangle
+   * (on flat regions the mean vertices can make three corners collinear), the shorter one when
+   * both do. Triangles repeating a node (a leaf met twice around the edge) are skipped.
+   */
   void Quad(const int32_t q[4])
   {
     auto d2 = [this](int32_t x, int32_t y) {
@@ -244,12 +265,18 @@ public:
       const double d[3] = { double(a[0]) - b[0], double(a[1]) - b[1], double(a[2]) - b[2] };
       return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
     };
-    const bool first = d2(q[0], q[2]) <= d2(q[1], q[3]);
-    const int32_t t[2][3] = { { q[0], q[1], q[2] }, { q[0], q[2], q[3] } };
-    const int32_t u[2][3] = { { q[1], q[2], q[3] }, { q[1], q[3], q[0] } };
+    const int32_t t[2][2][3] = { { { q[0], q[1], q[2] }, { q[0], q[2], q[3] } },
+      { { q[1], q[2], q[3] }, { q[1], q[3], q[0] } } };
+    auto flat = [this](const int32_t* tri) {
+      return tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2] &&
+        this->Area2(tri[0], tri[1], tri[2]) == 0.0;
+    };
+    const bool flat0 = flat(t[0][0]) || flat(t[0][1]);
+    const bool flat1 = flat(t[1][0]) || flat(t[1][1]);
+    const int split = flat0 != flat1 ? (flat0 ? 1 : 0) : (d2(q[0], q[2]) <= d2(q[1], q[3]) ? 0 : 1);
     for (int k = 0; k < 2; ++k)
     {
-      const int32_t* tri = first ? t[k] : u[k];
+      const int32_t* tri = t[split][k];
       if (tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2])
       {
         this->Triangles.insert(this->Triangles.end(), tri, tri + 3);
@@ -311,22 +338,51 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, PatchResult& out
   {
     ws.PointOf[node] = -1;
   }
-  // detect coincident vertices of distinct nodes inside a triangle (rare)
-  auto same = [&](int64_t a, int64_t b) {
-    return std::memcmp(&v.Vertex[3 * out.PointNode[a]], &v.Vertex[3 * out.PointNode[b]],
-             3 * sizeof(float)) == 0;
+  // Degenerate triangles of distinct points (rare): coincident vertices, or three collinear
+  // vertices (flat regions, ridges). Both are resolved by identifying points, which keeps every
+  // edge's parity (a simplicial map sends a closed surface to a closed surface): coincident
+  // points become one, and the middle point of a collinear triple joins its nearer end.
+  auto position = [&](int64_t point) { return &v.Vertex[3 * out.PointNode[point]]; };
+  // "zero area" at single precision: |cross| below 1e-6 of the longest side squared, so that a
+  // triangle flat in the float output coordinates is caught whatever their rounding
+  auto zeroArea = [&](int64_t a, int64_t b, int64_t c) {
+    const float* x = position(a);
+    const float* y = position(b);
+    const float* z = position(c);
+    const double u[3] = { double(y[0]) - x[0], double(y[1]) - x[1], double(y[2]) - x[2] };
+    const double w[3] = { double(z[0]) - x[0], double(z[1]) - x[1], double(z[2]) - x[2] };
+    const double r[3] = { w[0] - u[0], w[1] - u[1], w[2] - u[2] };
+    const double n[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+      u[0] * w[1] - u[1] * w[0] };
+    const double longest = std::max({ u[0] * u[0] + u[1] * u[1] + u[2] * u[2],
+      w[0] * w[0] + w[1] * w[1] + w[2] * w[2], r[0] * r[0] + r[1] * r[1] + r[2] * r[2] });
+    return n[0] * n[0] + n[1] * n[1] + n[2] * n[2] <= ZeroAreaTolerance * longest * longest;
   };
-  bool coincident = false;
-  for (size_t t = 0; t + 2 < out.Triangles.size() && !coincident; t += 3)
+  bool degenerate = false;
+  for (size_t t = 0; t + 2 < out.Triangles.size() && !degenerate; t += 3)
   {
     const int64_t* tri = &out.Triangles[t];
-    coincident = same(tri[0], tri[1]) || same(tri[1], tri[2]) || same(tri[0], tri[2]);
+    degenerate = zeroArea(tri[0], tri[1], tri[2]);
   }
-  if (!coincident)
+  if (!degenerate)
   {
     return true;
   }
-  // merge: every point maps to the first point with the same position
+  const int64_t np = static_cast<int64_t>(out.PointNode.size());
+  std::vector<int64_t> rep(np);
+  for (int64_t i = 0; i < np; ++i)
+  {
+    rep[i] = i;
+  }
+  auto find = [&](int64_t x) {
+    while (rep[x] != x)
+    {
+      rep[x] = rep[rep[x]];
+      x = rep[x];
+    }
+    return x;
+  };
+  // 1. coincident positions
   struct Hash
   {
     size_t operator()(const std::array<uint32_t, 3>& k) const
@@ -335,36 +391,71 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, PatchResult& out
     }
   };
   std::unordered_map<std::array<uint32_t, 3>, int64_t, Hash> first;
-  std::vector<int64_t> remap(out.PointNode.size());
-  std::vector<int64_t> kept;
-  for (size_t i = 0; i < out.PointNode.size(); ++i)
+  for (int64_t i = 0; i < np; ++i)
   {
     std::array<uint32_t, 3> key;
-    std::memcpy(key.data(), &v.Vertex[3 * out.PointNode[i]], sizeof(key));
-    auto it = first.find(key);
-    if (it == first.end())
+    std::memcpy(key.data(), position(i), sizeof(key));
+    auto it = first.emplace(key, i).first;
+    if (it->second != i)
     {
-      it = first.emplace(key, static_cast<int64_t>(kept.size())).first;
-      kept.push_back(out.PointNode[i]);
-    }
-    else
-    {
+      rep[i] = it->second;
       ++out.MergedPoints;
     }
-    remap[i] = it->second;
   }
+  // 2. collinear triples, until none is left (each pass removes points, so this ends)
+  for (bool changed = true; changed;)
+  {
+    changed = false;
+    for (size_t t = 0; t + 2 < out.Triangles.size(); t += 3)
+    {
+      const int64_t p[3] = { find(out.Triangles[t]), find(out.Triangles[t + 1]),
+        find(out.Triangles[t + 2]) };
+      if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2] || !zeroArea(p[0], p[1], p[2]))
+      {
+        continue;
+      }
+      // the middle point is the one opposite the longest side
+      auto d2 = [&](int64_t a, int64_t b) {
+        const float* x = position(a);
+        const float* y = position(b);
+        return (double(x[0]) - y[0]) * (double(x[0]) - y[0]) +
+          (double(x[1]) - y[1]) * (double(x[1]) - y[1]) +
+          (double(x[2]) - y[2]) * (double(x[2]) - y[2]);
+      };
+      const double side[3] = { d2(p[1], p[2]), d2(p[2], p[0]), d2(p[0], p[1]) };
+      const int mid = side[0] >= side[1] && side[0] >= side[2] ? 0 : (side[1] >= side[2] ? 1 : 2);
+      const int64_t m = p[mid], e1 = p[(mid + 1) % 3], e2 = p[(mid + 2) % 3];
+      rep[m] = d2(m, e1) <= d2(m, e2) ? e1 : e2;
+      ++out.MergedPoints;
+      changed = true;
+    }
+  }
+  // compact: keep the representatives that are still used
+  std::vector<int64_t> newIndex(np, -1);
+  std::vector<int64_t> kept;
   std::vector<int64_t> tris;
   tris.reserve(out.Triangles.size());
   for (size_t t = 0; t + 2 < out.Triangles.size(); t += 3)
   {
-    const int64_t a = remap[out.Triangles[t]], b = remap[out.Triangles[t + 1]],
-                  c = remap[out.Triangles[t + 2]];
-    if (a == b || b == c || a == c)
+    int64_t p[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      p[k] = find(out.Triangles[t + k]);
+    }
+    if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2])
     {
       ++out.DroppedTriangles;
       continue;
     }
-    tris.insert(tris.end(), { a, b, c });
+    for (int k = 0; k < 3; ++k)
+    {
+      if (newIndex[p[k]] < 0)
+      {
+        newIndex[p[k]] = static_cast<int64_t>(kept.size());
+        kept.push_back(out.PointNode[p[k]]);
+      }
+      tris.push_back(newIndex[p[k]]);
+    }
   }
   out.Triangles.swap(tris);
   out.PointNode.swap(kept);
