@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file plodSelector.h
+ * @brief VTK-free perceptual level-of-detail selection (SRCC §3.3-3.5, TMM §3-4, Wang & Sato
+ * eq. 1-2, Cheng §2): walks the octree from the root and writes a cut.
+ *
+ * Every test is expressed in pixels through one scale `k` (pixels per unit length at the
+ * cell's representative vertex v): `k = d_s / d_o` in perspective (d_s = screen distance in
+ * pixels, d_o = |eye - v|), `k = viewport height / (2 parallel scale)` in parallel projection.
+ * So SRCC eq. (5) `tan psi_s <= T_s / d_s` becomes `(dE - |n.v_f|) k <= T_s`, and eq. (10)
+ * `dB d_s tan psi_b <= T_b` becomes `dB (l_p (n.v_e) - |v_d.v_f|) k <= T_b`.
+ *
+ * Walk (SRCC §3.5), from the root:
+ * 1. Frustum: a cell whose box is wholly outside one plane is hidden (in the cut, not drawn)
+ *    and not refined.
+ * 2. Contour, with `c = n.v_e` and `s = sin(theta)` (no trigonometry per node):
+ *    (a) `c > s` (gamma < pi/2 - theta): front-facing: go to 3;
+ *    (b) `c < -s` (gamma > pi/2 + theta): back-facing: hidden, not refined;
+ *    (c) otherwise on the contour: accept if `max(0, dE - |n.v_f|) k <= T_s`, then go to 3;
+ *        else refine, each child through 1-3.
+ * 3. Brightness: `dB = M_d sum L_d dC_alpha + M_s sum L_s dC_beta` (eq. 8) with
+ *    `dC = c(max(0, a - theta)) - c(min(pi, a + theta))`, `c(x) = max(0, cos x)` (raised to the
+ *    specular power for dC_beta, with the half vector); accept if
+ *    `dB max(0, l_p max(0, n.v_e) - |v_d.v_f|) k <= T_b`; else each child through 3 only.
+ * 4. A finest cell that is reached is accepted.
+ * A cell containing the eye is always refined (its error is unbounded); the eye on a vertex
+ * counts as inside.
+ *
+ * Baselines, as modes of the same walk: SCVC (`dE k <= T_s` everywhere), PSEC (the same with
+ * the tolerance multiplied by PSECFactor on the contour and where the cone contains a light's
+ * half vector; no diffuse term), Distance (one level for the whole object, chosen by the caller
+ * with Wang & Sato eq. 1-2). Motion: micro motion (TMM eq. 6-7, 11-13) reduces the errors by
+ * the per-vertex displacement `v_f = A v + b`; IPV and DPV multiply both tolerances by one
+ * factor of the object's speed. Foveation multiplies the tolerances by `exp(K D)`.
+ */
+#ifndef plodSelector_h
+#define plodSelector_h
+
+#include "plodOctree.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace plod
+{
+
+enum class ErrorModel
+{
+  SRCC = 0,
+  SCVC = 1,
+  PSEC = 2,
+  Distance = 3
+};
+
+enum class MotionModel
+{
+  None = 0,
+  MicroMotion = 1,
+  InverseVelocity = 2,
+  DirectVelocity = 3
+};
+
+enum class FoveationMode
+{
+  Off = 0,
+  Object = 1, // Cheng: D = w_h beta/pi + w_v |Y - F_y| / H about a vertical axis
+  Screen = 2  // D = angle between the view ray through v and the gaze ray, over pi
+};
+
+/// Why a node is in the cut (node array "CutReason").
+enum CutReason : uint8_t
+{
+  ReasonNone = 0,       // not in the cut
+  AcceptedContour = 1,  // on the contour: contour and brightness tests passed
+  AcceptedBrightness = 2, // front-facing: brightness test passed
+  AcceptedFinest = 3,   // finest level reached
+  Culled = 4,           // outside the view frustum (hidden)
+  BackFacing = 5,       // whole cone facing away (hidden)
+  AcceptedError = 6     // SCVC, PSEC or Distance test passed
+};
+
+/// A light in the octree's local coordinates (relative to its origin).
+struct SelectorLight
+{
+  bool Positional = false;
+  double Position[3] = { 0, 0, 1 }; // positional: position; directional: unit vector to light
+  double Diffuse = 1;               // luminance-weighted diffuse intensity L_d
+  double Specular = 1;              // luminance-weighted specular intensity L_s
+};
+
+/// Everything one frame's selection uses, in the octree's local coordinates.
+struct SelectionInput
+{
+  ErrorModel Error = ErrorModel::SRCC;
+  MotionModel Motion = MotionModel::None;
+  FoveationMode Foveation = FoveationMode::Off;
+
+  double Eye[3] = { 0, 0, 0 };
+  bool UseFrustum = false;
+  double Planes[6][4] = {}; // a x + b y + c z + d >= 0 inside
+  bool Parallel = false;
+  double ProjectionDirection[3] = { 0, 0, -1 }; // parallel projection: v_e = -direction
+  /// Perspective: screen distance d_s in pixels. Parallel: pixels per unit length.
+  double PixelScale = 1000;
+
+  double ContourTolerance = 1;    // T_s, pixels
+  double BrightnessTolerance = 4; // T_b, brightness x pixels
+
+  std::vector<SelectorLight> Lights;
+  bool UseOctreeMaterial = false; // take M_d, M_s from the octree's ranges (their maxima)
+  double Diffuse = 1;             // M_d when the octree has no material
+  double Specular = 0;            // M_s when the octree has no material
+  double SpecularPower = 1;       // k
+
+  /// Micro motion (TMM): v_f = A v + b, already scaled by dt / t_m.
+  double MotionA[3][3] = {};
+  double MotionB[3] = {};
+  /// IPV / DPV: tolerance factor (>= 1; infinity: root alone), from the object's speed.
+  double VelocityFactor = 1;
+
+  double PSECFactor = 0.25;
+  int DistanceLevel = 0;
+
+  double FoveationRate = 0;            // K
+  double FoveationPoint[3] = { 0, 0, 0 }; // object mode: point of interest
+  double FoveationUp[3] = { 0, 1, 0 };    // object mode: unit vertical axis
+  double FoveationCentre[3] = { 0, 0, 0 }; // object mode: a point of the vertical axis
+  double FoveationHeight = 1;             // object mode: H
+  double FoveationWeights[2] = { 1, 1 };  // w_h, w_v
+  double GazeDirection[3] = { 0, 0, -1 }; // screen mode: unit gaze ray from the eye
+};
+
+struct SelectionStats
+{
+  int64_t Visited = 0;
+  int64_t InCut = 0;
+  int64_t Drawn = 0;
+};
+
+/// The difference of c(x) = max(0, cos x)^power over a cone: SRCC eq. (7) in one formula.
+/// `cosA`, `sinA`: the angle between the light (or half) vector and the axis; cone angle theta.
+double ConeCosineSpread(double cosA, double sinA, double cosT, double sinT, double power);
+
+/// Wang & Sato eq. (1)-(2): coarsest level whose cell edge is at most 2 n0 sin(angle/2) D / N.
+int DistanceLevel(double rootEdge, int finestLevel, double pixelThreshold, double viewAngle,
+  double distance, double pixels);
+
+/// Checks an input: finite numbers, positive scales, unit-ish vectors. Explains in `why`.
+bool ValidateSelectionInput(const SelectionInput& in, std::string* why);
+
+/**
+ * The selector keeps per-octree caches (sin and cos of the cone angles) and the previous cut,
+ * so that a frame touches only what it visits.
+ */
+class Selector
+{
+public:
+  /// Call when the octree changes (recomputes the caches).
+  void SetOctree(const OctreeView& view);
+  /// Writes the cut into `state` and `reason` (arrays of NumberOfNodes, kept between calls:
+  /// only the previous cut's entries are cleared).
+  void Select(const SelectionInput& in, uint8_t* state, uint8_t* reason, SelectionStats& stats);
+
+private:
+  OctreeView View;
+  std::vector<float> SinTheta, CosTheta;
+  std::vector<int32_t> Previous; // nodes of the previous cut
+};
+
+} // namespace plod
+
+#endif

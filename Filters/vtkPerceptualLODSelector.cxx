@@ -1,0 +1,488 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkPerceptualLODSelector.h"
+
+#include "plodSelector.h"
+
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMatrix4x4.h"
+#include "vtkMultiscaleOctree.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkSmartPointer.h"
+#include "vtkTimerLog.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+vtkStandardNewMacro(vtkPerceptualLODSelector);
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+void Identity(double m[16])
+{
+  for (int i = 0; i < 16; ++i)
+  {
+    m[i] = (i % 5 == 0) ? 1.0 : 0.0;
+  }
+}
+
+bool Finite(const double* x, int n)
+{
+  for (int i = 0; i < n; ++i)
+  {
+    if (!std::isfinite(x[i]))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+void TransformPoint(const double m[16], const double in[3], double out[3])
+{
+  const double p[4] = { in[0], in[1], in[2], 1.0 };
+  double r[4];
+  vtkMatrix4x4::MultiplyPoint(m, p, r);
+  const double w = r[3] != 0 ? r[3] : 1.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    out[a] = r[a] / w;
+  }
+}
+
+/// Linear part applied to a direction, normalised (zero stays zero).
+void TransformDirection(const double m[16], const double in[3], double out[3])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    out[a] = m[4 * a] * in[0] + m[4 * a + 1] * in[1] + m[4 * a + 2] * in[2];
+  }
+  const double l = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
+  if (l > 0)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      out[a] /= l;
+    }
+  }
+}
+}
+
+struct vtkPerceptualLODSelector::Internals
+{
+  plod::Selector Kernel;
+  std::vector<plod::SelectorLight> Lights;
+  vtkSmartPointer<vtkUnsignedCharArray> State;
+  vtkSmartPointer<vtkUnsignedCharArray> Reason;
+  // identity of the octree the kernel caches were made for
+  const void* LevelArray = nullptr;
+  vtkIdType Nodes = -1;
+  vtkMTimeType InputTime = 0;
+};
+
+//------------------------------------------------------------------------------
+vtkPerceptualLODSelector::vtkPerceptualLODSelector()
+  : ErrorModel(ERROR_SRCC)
+  , MotionModel(MOTION_NONE)
+  , FoveationMode(FOVEATION_OFF)
+  , FoveationRate(2.0)
+  , ContourTolerance(1.0)
+  , BrightnessTolerance(4.0)
+  , ViewAngle(30.0)
+  , UseFrustum(false)
+  , ParallelProjection(false)
+  , ParallelScale(1.0)
+  , UsePhysicalDisplay(false)
+  , PixelPitch(0.25)
+  , ViewingDistance(600.0)
+  , CoordinatesAreWorld(false)
+  , DiffuseReflectance(1.0)
+  , SpecularReflectance(0.3)
+  , SpecularPower(20.0)
+  , HasPreviousFrame(false)
+  , PreviousFrameTime(0.0)
+  , FrameInterval(1.0 / 60.0)
+  , InverseVelocitySpeed(4.0)
+  , DirectVelocitySpeed(64.0)
+  , PSECFactor(0.25)
+  , DistancePixelThreshold(1.0)
+  , ObjectSpeed(0.0)
+  , DistanceLevel(0)
+  , NumberOfVisitedNodes(0)
+  , NumberOfCutNodes(0)
+  , NumberOfDrawnNodes(0)
+  , SelectTime(0.0)
+  , Internal(new Internals)
+{
+  this->FoveationPoint[0] = this->FoveationPoint[1] = this->FoveationPoint[2] = 0.0;
+  this->FoveationUp[0] = this->FoveationUp[2] = 0.0;
+  this->FoveationUp[1] = 1.0;
+  this->FoveationWeights[0] = this->FoveationWeights[1] = 1.0;
+  this->GazeDirection[0] = this->GazeDirection[1] = 0.0;
+  this->GazeDirection[2] = -1.0;
+  this->EyePosition[0] = this->EyePosition[1] = 0.0;
+  this->EyePosition[2] = 1.0;
+  this->ViewportSize[0] = 1920;
+  this->ViewportSize[1] = 1080;
+  std::fill(this->FrustumPlanes, this->FrustumPlanes + 24, 0.0);
+  this->ProjectionDirection[0] = this->ProjectionDirection[1] = 0.0;
+  this->ProjectionDirection[2] = -1.0;
+  Identity(this->ObjectToWorldMatrix);
+  Identity(this->ObjectToViewMatrix);
+  Identity(this->PreviousObjectToViewMatrix);
+}
+
+//------------------------------------------------------------------------------
+vtkPerceptualLODSelector::~vtkPerceptualLODSelector() = default;
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::SetFrustumPlanes(const double planes[24])
+{
+  if (!std::equal(planes, planes + 24, this->FrustumPlanes) || !this->UseFrustum)
+  {
+    std::copy(planes, planes + 24, this->FrustumPlanes);
+    this->UseFrustum = true;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::GetFrustumPlanes(double planes[24])
+{
+  std::copy(this->FrustumPlanes, this->FrustumPlanes + 24, planes);
+}
+
+//------------------------------------------------------------------------------
+double vtkPerceptualLODSelector::GetScreenDistance()
+{
+  if (this->UsePhysicalDisplay)
+  {
+    return this->PixelPitch > 0 ? this->ViewingDistance / this->PixelPitch : 0.0;
+  }
+  return 0.5 * this->ViewportSize[1] / std::tan(0.5 * this->ViewAngle * Pi / 180.0);
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::SetNumberOfLights(int n)
+{
+  n = std::max(0, n);
+  if (static_cast<int>(this->Internal->Lights.size()) != n)
+  {
+    this->Internal->Lights.resize(n);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkPerceptualLODSelector::GetNumberOfLights()
+{
+  return static_cast<int>(this->Internal->Lights.size());
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::SetLight(
+  int index, bool positional, double x, double y, double z, double diffuse, double specular)
+{
+  if (index < 0 || index >= this->GetNumberOfLights())
+  {
+    vtkErrorMacro("SetLight: index " << index << " outside [0, " << this->GetNumberOfLights()
+                                     << ").");
+    return;
+  }
+  plod::SelectorLight& l = this->Internal->Lights[index];
+  if (l.Positional != positional || l.Position[0] != x || l.Position[1] != y ||
+    l.Position[2] != z || l.Diffuse != diffuse || l.Specular != specular)
+  {
+    l.Positional = positional;
+    l.Position[0] = x;
+    l.Position[1] = y;
+    l.Position[2] = z;
+    l.Diffuse = diffuse;
+    l.Specular = specular;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::AddLight(
+  bool positional, double x, double y, double z, double diffuse, double specular)
+{
+  this->SetNumberOfLights(this->GetNumberOfLights() + 1);
+  this->SetLight(this->GetNumberOfLights() - 1, positional, x, y, z, diffuse, specular);
+}
+
+//------------------------------------------------------------------------------
+int vtkPerceptualLODSelector::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkMultiscaleOctree* input = vtkMultiscaleOctree::GetData(inputVector[0]);
+  vtkMultiscaleOctree* output = vtkMultiscaleOctree::GetData(outputVector);
+  if (!input || input->GetNumberOfNodes() == 0)
+  {
+    output->Initialize();
+    this->NumberOfVisitedNodes = this->NumberOfCutNodes = this->NumberOfDrawnNodes = 0;
+    return 1;
+  }
+  plod::OctreeView view;
+  if (!input->GetView(view))
+  {
+    vtkErrorMacro("The input octree's node arrays are missing or malformed.");
+    return 1;
+  }
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+
+  // ---- parameters: check them before touching anything ---------------------------------------
+  const char* problem = nullptr;
+  if (!(this->ViewportSize[0] > 0 && this->ViewportSize[1] > 0))
+    problem = "the viewport size must be positive";
+  else if (!this->ParallelProjection && !this->UsePhysicalDisplay &&
+    !(this->ViewAngle > 0 && this->ViewAngle < 180))
+    problem = "the view angle must be in (0, 180) degrees";
+  else if (this->ParallelProjection && !(this->ParallelScale > 0 && std::isfinite(this->ParallelScale)))
+    problem = "the parallel scale must be positive and finite";
+  else if (this->UsePhysicalDisplay &&
+    !(this->PixelPitch > 0 && this->ViewingDistance > 0 && std::isfinite(this->ViewingDistance)))
+    problem = "pixel pitch and viewing distance must be positive and finite";
+  else if (!Finite(this->ObjectToWorldMatrix, 16) || !Finite(this->ObjectToViewMatrix, 16) ||
+    !Finite(this->PreviousObjectToViewMatrix, 16))
+    problem = "a matrix has a NaN or infinite entry";
+  else if (!std::isfinite(this->PreviousFrameTime) || this->PreviousFrameTime < 0 ||
+    !std::isfinite(this->FrameInterval) || this->FrameInterval < 0)
+    problem = "frame times must be finite and non-negative";
+  else if (!(this->InverseVelocitySpeed > 0) || !(this->DirectVelocitySpeed > 0) ||
+    !std::isfinite(this->PSECFactor) || !(this->PSECFactor > 0) ||
+    !(this->DistancePixelThreshold > 0))
+    problem = "IPV/DPV speeds, the PSEC factor and the pixel threshold must be positive";
+  if (problem)
+  {
+    vtkErrorMacro("Invalid input: " << problem << "; the previous cut is kept.");
+    return 1;
+  }
+
+  plod::SelectionInput in;
+  in.Error = static_cast<plod::ErrorModel>(this->ErrorModel);
+  in.Motion = static_cast<plod::MotionModel>(this->MotionModel);
+  in.Foveation = static_cast<plod::FoveationMode>(this->FoveationMode);
+  in.ContourTolerance = this->ContourTolerance;
+  in.BrightnessTolerance = this->BrightnessTolerance;
+  in.UseOctreeMaterial = input->GetHasMaterialArrays();
+  in.Diffuse = this->DiffuseReflectance;
+  in.Specular = this->SpecularReflectance;
+  in.SpecularPower = this->SpecularPower;
+  in.PSECFactor = this->PSECFactor;
+  in.FoveationRate = this->FoveationRate;
+  in.FoveationWeights[0] = this->FoveationWeights[0];
+  in.FoveationWeights[1] = this->FoveationWeights[1];
+
+  // world -> object
+  double toObject[16];
+  Identity(toObject);
+  double scale = 1.0; // world length per object length
+  if (this->CoordinatesAreWorld)
+  {
+    vtkMatrix4x4::Invert(this->ObjectToWorldMatrix, toObject);
+    const double* m = this->ObjectToWorldMatrix;
+    const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+      m[2] * (m[4] * m[9] - m[5] * m[8]);
+    scale = std::cbrt(std::abs(det));
+    if (!(scale > 0) || !Finite(toObject, 16))
+    {
+      vtkErrorMacro("Invalid input: the object-to-world matrix is singular; the previous cut is kept.");
+      return 1;
+    }
+  }
+  const double* o = view.Origin;
+  auto toLocalPoint = [&](const double p[3], double out[3]) {
+    TransformPoint(toObject, p, out);
+    for (int a = 0; a < 3; ++a)
+      out[a] -= o[a];
+  };
+  toLocalPoint(this->EyePosition, in.Eye);
+  in.UseFrustum = this->UseFrustum;
+  if (this->UseFrustum)
+  {
+    for (int p = 0; p < 6; ++p)
+    {
+      const double* w = this->FrustumPlanes + 4 * p;
+      double obj[4];
+      // plane (row) x M: a plane of the world seen in object coordinates
+      const double* m = this->CoordinatesAreWorld ? this->ObjectToWorldMatrix : toObject;
+      for (int c = 0; c < 4; ++c)
+        obj[c] = w[0] * m[c] + w[1] * m[4 + c] + w[2] * m[8 + c] + w[3] * m[12 + c];
+      for (int a = 0; a < 3; ++a)
+        in.Planes[p][a] = obj[a];
+      in.Planes[p][3] = obj[3] + obj[0] * o[0] + obj[1] * o[1] + obj[2] * o[2];
+    }
+  }
+  in.Parallel = this->ParallelProjection;
+  TransformDirection(toObject, this->ProjectionDirection, in.ProjectionDirection);
+  const double ds = this->GetScreenDistance();
+  in.PixelScale =
+    this->ParallelProjection ? 0.5 * this->ViewportSize[1] / this->ParallelScale * scale : ds;
+  for (const plod::SelectorLight& l : this->Internal->Lights)
+  {
+    plod::SelectorLight t = l;
+    if (l.Positional)
+      toLocalPoint(l.Position, t.Position);
+    else
+      TransformDirection(toObject, l.Position, t.Position);
+    in.Lights.push_back(t);
+  }
+  toLocalPoint(this->FoveationPoint, in.FoveationPoint);
+  TransformDirection(toObject, this->FoveationUp, in.FoveationUp);
+  TransformDirection(toObject, this->GazeDirection, in.GazeDirection);
+  const double half = 0.5 * view.RootEdge;
+  in.FoveationCentre[0] = in.FoveationCentre[1] = in.FoveationCentre[2] = half;
+  in.FoveationHeight = view.RootEdge;
+
+  // motion: v_m = M_p M_c v - v, v_f = v_m dt / t_m (TMM §3), affine in v
+  const bool moving = this->HasPreviousFrame && this->PreviousFrameTime > 0;
+  this->ObjectSpeed = 0.0;
+  if (moving)
+  {
+    double prevInverse[16], t[16];
+    vtkMatrix4x4::Invert(this->PreviousObjectToViewMatrix, prevInverse);
+    vtkMatrix4x4::Multiply4x4(prevInverse, this->ObjectToViewMatrix, t);
+    const double f = this->FrameInterval / this->PreviousFrameTime;
+    double A[3][3], b[3];
+    for (int r = 0; r < 3; ++r)
+    {
+      for (int c = 0; c < 3; ++c)
+        A[r][c] = f * (t[4 * r + c] - (r == c ? 1.0 : 0.0));
+      b[r] = f * t[4 * r + 3];
+    }
+    // local coordinates: v_obj = v_local + origin
+    for (int r = 0; r < 3; ++r)
+    {
+      in.MotionB[r] = b[r] + A[r][0] * o[0] + A[r][1] * o[1] + A[r][2] * o[2];
+      for (int c = 0; c < 3; ++c)
+        in.MotionA[r][c] = A[r][c];
+    }
+    // speed of the root's centre in pixels per frame interval
+    double vf[3], d[3];
+    for (int r = 0; r < 3; ++r)
+    {
+      vf[r] = in.MotionA[r][0] * half + in.MotionA[r][1] * half + in.MotionA[r][2] * half +
+        in.MotionB[r];
+      d[r] = in.Eye[r] - half;
+    }
+    const double dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const double k = this->ParallelProjection ? in.PixelScale : (dist > 0 ? ds / dist : 0.0);
+    this->ObjectSpeed = std::sqrt(vf[0] * vf[0] + vf[1] * vf[1] + vf[2] * vf[2]) * k;
+  }
+  if (in.Motion == plod::MotionModel::InverseVelocity)
+  {
+    in.VelocityFactor = std::max(1.0, this->ObjectSpeed / this->InverseVelocitySpeed);
+  }
+  else if (in.Motion == plod::MotionModel::DirectVelocity)
+  {
+    const double left = 1.0 - this->ObjectSpeed / this->DirectVelocitySpeed;
+    in.VelocityFactor = left > 0 ? 1.0 / left : std::numeric_limits<double>::infinity();
+  }
+  if (in.Motion == plod::MotionModel::MicroMotion && !moving)
+  {
+    in.Motion = plod::MotionModel::None; // first frame, or t_m = 0: no motion
+  }
+  // Wang & Sato: one level from the distance to the root's centre
+  {
+    const double d[3] = { in.Eye[0] - half, in.Eye[1] - half, in.Eye[2] - half };
+    const double dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const double angle = this->ParallelProjection
+      ? 2.0 * std::atan(this->ParallelScale / std::max(dist, 1e-300))
+      : this->ViewAngle * Pi / 180.0;
+    this->DistanceLevel = plod::DistanceLevel(view.RootEdge, view.FinestLevel,
+      this->DistancePixelThreshold, angle, dist, this->ViewportSize[1]);
+    in.DistanceLevel = this->DistanceLevel;
+  }
+
+  std::string why;
+  if (!plod::ValidateSelectionInput(in, &why))
+  {
+    vtkErrorMacro("Invalid input: " << why << "; the previous cut is kept.");
+    return 1;
+  }
+
+  // ---- caches follow the octree ------------------------------------------------------------------
+  Internals& I = *this->Internal;
+  if (I.LevelArray != view.Level || I.Nodes != view.NumberOfNodes ||
+    I.InputTime != input->GetMTime() || !I.State)
+  {
+    I.Kernel.SetOctree(view);
+    I.State = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    I.State->SetName(vtkMultiscaleOctree::CutStateArrayName());
+    I.State->SetNumberOfTuples(view.NumberOfNodes);
+    I.State->FillValue(0);
+    I.Reason = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    I.Reason->SetName(CutReasonArrayName());
+    I.Reason->SetNumberOfTuples(view.NumberOfNodes);
+    I.Reason->FillValue(0);
+    I.LevelArray = view.Level;
+    I.Nodes = view.NumberOfNodes;
+    I.InputTime = input->GetMTime();
+  }
+  plod::SelectionStats stats;
+  I.Kernel.Select(in, I.State->GetPointer(0), I.Reason->GetPointer(0), stats);
+  I.State->Modified();
+  I.Reason->Modified();
+
+  output->ShallowCopy(input);
+  output->GetNodeData()->RemoveArray(vtkMultiscaleOctree::CutStateArrayName());
+  output->GetNodeData()->RemoveArray(CutReasonArrayName());
+  output->GetNodeData()->AddArray(I.State);
+  output->GetNodeData()->AddArray(I.Reason);
+  timer->StopTimer();
+  this->SelectTime = timer->GetElapsedTime();
+  this->NumberOfVisitedNodes = stats.Visited;
+  this->NumberOfCutNodes = stats.InCut;
+  this->NumberOfDrawnNodes = stats.Drawn;
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  static const char* errors[] = { "SRCC", "SCVC", "PSEC", "Distance" };
+  static const char* motions[] = { "None", "MicroMotion", "InverseVelocity", "DirectVelocity" };
+  static const char* foveations[] = { "Off", "Object", "Screen" };
+  os << indent << "ErrorModel: " << errors[this->ErrorModel] << "\n";
+  os << indent << "MotionModel: " << motions[this->MotionModel] << "\n";
+  os << indent << "FoveationMode: " << foveations[this->FoveationMode] << "\n";
+  os << indent << "FoveationRate: " << this->FoveationRate << "\n";
+  os << indent << "ContourTolerance: " << this->ContourTolerance << " px\n";
+  os << indent << "BrightnessTolerance: " << this->BrightnessTolerance << "\n";
+  os << indent << "EyePosition: (" << this->EyePosition[0] << ", " << this->EyePosition[1]
+     << ", " << this->EyePosition[2] << ")\n";
+  os << indent << "ViewAngle: " << this->ViewAngle << " deg\n";
+  os << indent << "ViewportSize: " << this->ViewportSize[0] << " x " << this->ViewportSize[1]
+     << "\n";
+  os << indent << "UseFrustum: " << (this->UseFrustum ? "On" : "Off") << "\n";
+  os << indent << "ParallelProjection: " << (this->ParallelProjection ? "On" : "Off")
+     << ", scale " << this->ParallelScale << "\n";
+  os << indent << "UsePhysicalDisplay: " << (this->UsePhysicalDisplay ? "On" : "Off")
+     << ", pixel pitch " << this->PixelPitch << ", viewing distance " << this->ViewingDistance
+     << "\n";
+  os << indent << "CoordinatesAreWorld: " << (this->CoordinatesAreWorld ? "On" : "Off") << "\n";
+  os << indent << "NumberOfLights: " << this->Internal->Lights.size() << "\n";
+  os << indent << "Material: diffuse " << this->DiffuseReflectance << ", specular "
+     << this->SpecularReflectance << ", power " << this->SpecularPower << "\n";
+  os << indent << "HasPreviousFrame: " << (this->HasPreviousFrame ? "On" : "Off")
+     << ", previous frame time " << this->PreviousFrameTime << " s, frame interval "
+     << this->FrameInterval << " s\n";
+  os << indent << "InverseVelocitySpeed: " << this->InverseVelocitySpeed << "\n";
+  os << indent << "DirectVelocitySpeed: " << this->DirectVelocitySpeed << "\n";
+  os << indent << "PSECFactor: " << this->PSECFactor << "\n";
+  os << indent << "DistancePixelThreshold: " << this->DistancePixelThreshold << "\n";
+  os << indent << "Last: " << this->NumberOfVisitedNodes << " visited, " << this->NumberOfCutNodes
+     << " in the cut, " << this->NumberOfDrawnNodes << " drawn, " << this->SelectTime * 1e3
+     << " ms, object speed " << this->ObjectSpeed << " px, distance level "
+     << this->DistanceLevel << "\n";
+}

@@ -1,0 +1,328 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class   vtkPerceptualLODSelector
+ * @brief   picks, every frame, the cut through a multiscale octree that a viewer can perceive
+ *
+ * Reads a vtkMultiscaleOctree and the view, written as plain numbers (no renderer inside, so it
+ * is testable and usable from Python without a window), and outputs the same octree (shallow
+ * copy) with two node arrays: "CutState" (0 not in the cut, 1 drawn, 2 hidden) for
+ * vtkMultiscalePatchGenerator, and "CutReason" (plod::CutReason: 1 accepted on the contour, 2
+ * accepted by brightness, 3 finest level, 4 culled, 5 back-facing, 6 accepted by a baseline's
+ * error test).
+ *
+ * Method (METHOD §2; SRCC §3.3-3.5 by Wakatsuki et al. 2003; TMM §3-4; Wang & Sato eq. 1-2;
+ * Cheng §2), walking from the root:
+ * 1. cells wholly outside the view frustum are hidden and not refined;
+ * 2. contour: with gamma the angle between v_e (vertex to eye) and the cone axis, cells with
+ *    gamma < pi/2 - theta are front-facing, gamma > pi/2 + theta back-facing (hidden, not
+ *    refined), otherwise on the contour, accepted when the projected shape error
+ *    ShapeError * d_s / d_o (reduced by the micro motion |n.v_f| d_s / d_o) is at most
+ *    ContourTolerance pixels;
+ * 3. brightness: the spread of Lambert and Phong shading over the normal cone, summed over the
+ *    lights (SRCC eq. 7-8), times the projected cell size l_p (n.v_e) d_s / d_o (reduced by the
+ *    motion across the view) is at most BrightnessTolerance; else the children are tested for
+ *    brightness only;
+ * 4. a finest cell that is reached is accepted.
+ * See plodSelector.h for the formulas as implemented.
+ *
+ * Units: ContourTolerance in pixels (default 1). BrightnessTolerance in brightness x pixels,
+ * brightness being reflectance x luminance-weighted light intensity in [0, 1] (default 4: a
+ * cell may span 4 pixels over which its shading could vary by the full range 1, or 16 over
+ * which it varies by 0.25). The screen distance d_s is (viewport height / 2) / tan(view angle
+ * / 2) pixels, or ViewingDistance / PixelPitch for a physical display.
+ *
+ * Modes of the same walk, so that they compare on equal terms:
+ * - error model: SRCC (default), SCVC (ShapeError d_s / d_o <= ContourTolerance everywhere),
+ *   PSEC (the same, with the tolerance times PSECFactor on the contour and where the cone holds
+ *   a light's half vector), Distance (Wang & Sato: one level for the whole object, the coarsest
+ *   whose cell edge is at most 2 n0 sin(view angle / 2) D / N, D the distance from the eye to
+ *   the root's centre, N the viewport height, n0 = DistancePixelThreshold);
+ * - motion model: None (default); MicroMotion (TMM: v_m = M_p M_c v - v from the current and
+ *   previous object->view matrices, v_f = v_m FrameInterval / PreviousFrameTime);
+ *   InverseVelocity (IPV: both tolerances times max(1, s / InverseVelocitySpeed));
+ *   DirectVelocity (DPV: times 1 / (1 - s / DirectVelocitySpeed), the root alone once
+ *   s >= DirectVelocitySpeed); s is the speed of the root's centre in pixels per FrameInterval;
+ * - foveation (Cheng): tolerances times exp(FoveationRate D); Object mode measures D about a
+ *   vertical axis from FoveationPoint (D = w_h beta / pi + w_v |Y - F_y| / H, H the root edge),
+ *   Screen mode as the angle between the view ray and GazeDirection, over pi.
+ * Frustum culling applies in every mode.
+ *
+ * Coordinates: eye, frustum planes, lights, gaze and fovea are in the octree's (object)
+ * coordinates, unless CoordinatesAreWorld is on: then they are in world coordinates and
+ * ObjectToWorldMatrix (row-major 4x4, x_world = M x_object) maps the octree to the world.
+ * Frustum planes are 6 x (a, b, c, d) with a x + b y + c z + d >= 0 inside, the layout of
+ * vtkCamera::GetFrustumPlanes. Without planes (UseFrustum off) nothing is culled.
+ *
+ * The filter re-executes only when a value it uses changes (every setter compares), and never
+ * makes the builder re-execute. Invalid input (NaN or infinite numbers, non-positive viewport)
+ * is reported with vtkErrorMacro and leaves the previous output, cut included, untouched.
+ *
+ * @sa vtkMultiscaleOctree vtkMultiscalePatchGenerator vtkPerceptualLODRenderBinding
+ */
+#ifndef vtkPerceptualLODSelector_h
+#define vtkPerceptualLODSelector_h
+
+#include "PerceptualLODFiltersModule.h" // for export macro
+#include "vtkMultiscaleOctreeAlgorithm.h"
+
+#include <memory> // for the internals
+
+class PERCEPTUALLODFILTERS_EXPORT vtkPerceptualLODSelector : public vtkMultiscaleOctreeAlgorithm
+{
+public:
+  static vtkPerceptualLODSelector* New();
+  vtkTypeMacro(vtkPerceptualLODSelector, vtkMultiscaleOctreeAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum ErrorModels
+  {
+    ERROR_SRCC = 0,
+    ERROR_SCVC = 1,
+    ERROR_PSEC = 2,
+    ERROR_DISTANCE = 3
+  };
+  enum MotionModels
+  {
+    MOTION_NONE = 0,
+    MOTION_MICRO = 1,
+    MOTION_INVERSE_VELOCITY = 2,
+    MOTION_DIRECT_VELOCITY = 3
+  };
+  enum FoveationModes
+  {
+    FOVEATION_OFF = 0,
+    FOVEATION_OBJECT = 1,
+    FOVEATION_SCREEN = 2
+  };
+
+  ///@{
+  /// Error model. Default ERROR_SRCC.
+  vtkSetClampMacro(ErrorModel, int, ERROR_SRCC, ERROR_DISTANCE);
+  vtkGetMacro(ErrorModel, int);
+  void SetErrorModelToSRCC() { this->SetErrorModel(ERROR_SRCC); }
+  void SetErrorModelToSCVC() { this->SetErrorModel(ERROR_SCVC); }
+  void SetErrorModelToPSEC() { this->SetErrorModel(ERROR_PSEC); }
+  void SetErrorModelToDistance() { this->SetErrorModel(ERROR_DISTANCE); }
+  ///@}
+
+  ///@{
+  /// Motion model. Default MOTION_NONE.
+  vtkSetClampMacro(MotionModel, int, MOTION_NONE, MOTION_DIRECT_VELOCITY);
+  vtkGetMacro(MotionModel, int);
+  void SetMotionModelToNone() { this->SetMotionModel(MOTION_NONE); }
+  void SetMotionModelToMicroMotion() { this->SetMotionModel(MOTION_MICRO); }
+  void SetMotionModelToInverseVelocity() { this->SetMotionModel(MOTION_INVERSE_VELOCITY); }
+  void SetMotionModelToDirectVelocity() { this->SetMotionModel(MOTION_DIRECT_VELOCITY); }
+  ///@}
+
+  ///@{
+  /// Foveation. Default FOVEATION_OFF.
+  vtkSetClampMacro(FoveationMode, int, FOVEATION_OFF, FOVEATION_SCREEN);
+  vtkGetMacro(FoveationMode, int);
+  void SetFoveationModeToOff() { this->SetFoveationMode(FOVEATION_OFF); }
+  void SetFoveationModeToObject() { this->SetFoveationMode(FOVEATION_OBJECT); }
+  void SetFoveationModeToScreen() { this->SetFoveationMode(FOVEATION_SCREEN); }
+  /// K of exp(K D). Default 2.
+  vtkSetMacro(FoveationRate, double);
+  vtkGetMacro(FoveationRate, double);
+  /// Object mode: point of interest. Default (0, 0, 0).
+  vtkSetVector3Macro(FoveationPoint, double);
+  vtkGetVector3Macro(FoveationPoint, double);
+  /// Object mode: the vertical axis (through the root's centre). Default (0, 1, 0).
+  vtkSetVector3Macro(FoveationUp, double);
+  vtkGetVector3Macro(FoveationUp, double);
+  /// Object mode: w_h, w_v. Default (1, 1).
+  vtkSetVector2Macro(FoveationWeights, double);
+  vtkGetVector2Macro(FoveationWeights, double);
+  /// Screen mode: gaze ray direction from the eye. Default (0, 0, -1).
+  vtkSetVector3Macro(GazeDirection, double);
+  vtkGetVector3Macro(GazeDirection, double);
+  ///@}
+
+  ///@{
+  /// Tolerances: contour T_s in pixels (default 1), brightness T_b (default 4), see above.
+  vtkSetMacro(ContourTolerance, double);
+  vtkGetMacro(ContourTolerance, double);
+  vtkSetMacro(BrightnessTolerance, double);
+  vtkGetMacro(BrightnessTolerance, double);
+  ///@}
+
+  ///@{
+  /// The view. Eye position default (0, 0, 1); view angle in degrees (default 30); viewport
+  /// size in pixels (default 1920 x 1080).
+  vtkSetVector3Macro(EyePosition, double);
+  vtkGetVector3Macro(EyePosition, double);
+  vtkSetMacro(ViewAngle, double);
+  vtkGetMacro(ViewAngle, double);
+  vtkSetVector2Macro(ViewportSize, int);
+  vtkGetVector2Macro(ViewportSize, int);
+  /// Frustum planes (24 numbers, see above); setting them turns UseFrustum on.
+  void SetFrustumPlanes(const double planes[24]);
+  void GetFrustumPlanes(double planes[24]);
+  vtkSetMacro(UseFrustum, bool);
+  vtkGetMacro(UseFrustum, bool);
+  vtkBooleanMacro(UseFrustum, bool);
+  /// Parallel projection (default off): ParallelScale is half the viewport height in world
+  /// units; the projection direction is the direction of projection of the camera.
+  vtkSetMacro(ParallelProjection, bool);
+  vtkGetMacro(ParallelProjection, bool);
+  vtkBooleanMacro(ParallelProjection, bool);
+  vtkSetMacro(ParallelScale, double);
+  vtkGetMacro(ParallelScale, double);
+  vtkSetVector3Macro(ProjectionDirection, double);
+  vtkGetVector3Macro(ProjectionDirection, double);
+  /// A physical display instead of pixels: d_s = ViewingDistance / PixelPitch (same units).
+  vtkSetMacro(UsePhysicalDisplay, bool);
+  vtkGetMacro(UsePhysicalDisplay, bool);
+  vtkBooleanMacro(UsePhysicalDisplay, bool);
+  vtkSetMacro(PixelPitch, double);
+  vtkGetMacro(PixelPitch, double);
+  vtkSetMacro(ViewingDistance, double);
+  vtkGetMacro(ViewingDistance, double);
+  /// Screen distance d_s in pixels as used (read-only).
+  double GetScreenDistance();
+  ///@}
+
+  ///@{
+  /// World coordinates: when on, the view, lights, gaze and fovea are in world coordinates and
+  /// ObjectToWorldMatrix (row-major, x_world = M x_object) places the octree. Default off.
+  vtkSetMacro(CoordinatesAreWorld, bool);
+  vtkGetMacro(CoordinatesAreWorld, bool);
+  vtkBooleanMacro(CoordinatesAreWorld, bool);
+  vtkSetVectorMacro(ObjectToWorldMatrix, double, 16);
+  vtkGetVectorMacro(ObjectToWorldMatrix, double, 16);
+  ///@}
+
+  ///@{
+  /**
+   * Lights. Each has a type (positional or directional), a position or a direction towards the
+   * light, and luminance-weighted diffuse and specular intensities (intensity x (0.2126 r +
+   * 0.7152 g + 0.0722 b) of its colours). SetLight and SetNumberOfLights call Modified() only
+   * when something changes.
+   */
+  void SetNumberOfLights(int n);
+  int GetNumberOfLights();
+  void SetLight(int index, bool positional, double x, double y, double z, double diffuse,
+    double specular);
+  void AddLight(bool positional, double x, double y, double z, double diffuse, double specular);
+  void RemoveAllLights() { this->SetNumberOfLights(0); }
+  ///@}
+
+  ///@{
+  /// Material used where the octree has no material arrays: diffuse (default 1), specular
+  /// (default 0.3) reflectance and specular power (default 20).
+  vtkSetMacro(DiffuseReflectance, double);
+  vtkGetMacro(DiffuseReflectance, double);
+  vtkSetMacro(SpecularReflectance, double);
+  vtkGetMacro(SpecularReflectance, double);
+  vtkSetMacro(SpecularPower, double);
+  vtkGetMacro(SpecularPower, double);
+  ///@}
+
+  ///@{
+  /**
+   * Motion: object->view matrices (row-major 4x4) of this frame and of the previous one, the
+   * previous frame's time t_m in seconds and the frame interval dt (default 1/60 s). Without a
+   * previous matrix, or with t_m = 0, there is no motion.
+   */
+  vtkSetVectorMacro(ObjectToViewMatrix, double, 16);
+  vtkGetVectorMacro(ObjectToViewMatrix, double, 16);
+  vtkSetVectorMacro(PreviousObjectToViewMatrix, double, 16);
+  vtkGetVectorMacro(PreviousObjectToViewMatrix, double, 16);
+  vtkSetMacro(HasPreviousFrame, bool);
+  vtkGetMacro(HasPreviousFrame, bool);
+  vtkSetMacro(PreviousFrameTime, double);
+  vtkGetMacro(PreviousFrameTime, double);
+  vtkSetMacro(FrameInterval, double);
+  vtkGetMacro(FrameInterval, double);
+  /// IPV: full detail up to this speed (pixels per frame interval), then 1/speed. Default 4.
+  vtkSetMacro(InverseVelocitySpeed, double);
+  vtkGetMacro(InverseVelocitySpeed, double);
+  /// DPV: detail falls linearly to zero (root alone) at this speed. Default 64.
+  vtkSetMacro(DirectVelocitySpeed, double);
+  vtkGetMacro(DirectVelocitySpeed, double);
+  /// The object's speed used by IPV and DPV in the last execution (pixels per frame interval).
+  vtkGetMacro(ObjectSpeed, double);
+  ///@}
+
+  ///@{
+  /// Baselines' constants: PSEC tolerance factor on features (default 0.25); Wang & Sato's
+  /// pixel threshold n0 (default 1).
+  vtkSetMacro(PSECFactor, double);
+  vtkGetMacro(PSECFactor, double);
+  vtkSetMacro(DistancePixelThreshold, double);
+  vtkGetMacro(DistancePixelThreshold, double);
+  /// Level chosen by the Distance model in the last execution.
+  vtkGetMacro(DistanceLevel, int);
+  ///@}
+
+  ///@{
+  /// Figures of the last execution.
+  vtkGetMacro(NumberOfVisitedNodes, vtkIdType);
+  vtkGetMacro(NumberOfCutNodes, vtkIdType);
+  vtkGetMacro(NumberOfDrawnNodes, vtkIdType);
+  /// Wall-clock seconds of the last selection.
+  vtkGetMacro(SelectTime, double);
+  ///@}
+
+  /// Name of the node array holding each cut cell's reason.
+  static const char* CutReasonArrayName() { return "CutReason"; }
+
+protected:
+  vtkPerceptualLODSelector();
+  ~vtkPerceptualLODSelector() override;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int ErrorModel;
+  int MotionModel;
+  int FoveationMode;
+  double FoveationRate;
+  double FoveationPoint[3];
+  double FoveationUp[3];
+  double FoveationWeights[2];
+  double GazeDirection[3];
+  double ContourTolerance;
+  double BrightnessTolerance;
+  double EyePosition[3];
+  double ViewAngle;
+  int ViewportSize[2];
+  double FrustumPlanes[24];
+  bool UseFrustum;
+  bool ParallelProjection;
+  double ParallelScale;
+  double ProjectionDirection[3];
+  bool UsePhysicalDisplay;
+  double PixelPitch;
+  double ViewingDistance;
+  bool CoordinatesAreWorld;
+  double ObjectToWorldMatrix[16];
+  double DiffuseReflectance;
+  double SpecularReflectance;
+  double SpecularPower;
+  double ObjectToViewMatrix[16];
+  double PreviousObjectToViewMatrix[16];
+  bool HasPreviousFrame;
+  double PreviousFrameTime;
+  double FrameInterval;
+  double InverseVelocitySpeed;
+  double DirectVelocitySpeed;
+  double PSECFactor;
+  double DistancePixelThreshold;
+
+  double ObjectSpeed;
+  int DistanceLevel;
+  vtkIdType NumberOfVisitedNodes;
+  vtkIdType NumberOfCutNodes;
+  vtkIdType NumberOfDrawnNodes;
+  double SelectTime;
+
+private:
+  vtkPerceptualLODSelector(const vtkPerceptualLODSelector&) = delete;
+  void operator=(const vtkPerceptualLODSelector&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
+};
+
+#endif
