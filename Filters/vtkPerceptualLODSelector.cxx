@@ -81,6 +81,9 @@ struct vtkPerceptualLODSelector::Internals
   std::vector<plod::SelectorLight> Lights;
   vtkSmartPointer<vtkUnsignedCharArray> State;
   vtkSmartPointer<vtkUnsignedCharArray> Reason;
+  // the last good output (shallow copy): the pipeline clears the output before each execution,
+  // so an invalid input restores this one instead of losing the previous cut
+  vtkSmartPointer<vtkMultiscaleOctree> LastOutput = vtkSmartPointer<vtkMultiscaleOctree>::New();
   // identity of the octree the kernel caches were made for
   const void* LevelArray = nullptr;
   vtkIdType Nodes = -1;
@@ -227,6 +230,7 @@ int vtkPerceptualLODSelector::RequestData(
   if (!input || input->GetNumberOfNodes() == 0)
   {
     output->Initialize();
+    this->Internal->LastOutput->Initialize();
     this->NumberOfVisitedNodes = this->NumberOfCutNodes = this->NumberOfDrawnNodes = 0;
     return 1;
   }
@@ -264,6 +268,7 @@ int vtkPerceptualLODSelector::RequestData(
   if (problem)
   {
     vtkErrorMacro("Invalid input: " << problem << "; the previous cut is kept.");
+    output->ShallowCopy(this->Internal->LastOutput);
     return 1;
   }
 
@@ -295,7 +300,9 @@ int vtkPerceptualLODSelector::RequestData(
     scale = std::cbrt(std::abs(det));
     if (!(scale > 0) || !Finite(toObject, 16))
     {
-      vtkErrorMacro("Invalid input: the object-to-world matrix is singular; the previous cut is kept.");
+      vtkErrorMacro(
+        "Invalid input: the object-to-world matrix is singular; the previous cut is kept.");
+      output->ShallowCopy(this->Internal->LastOutput);
       return 1;
     }
   }
@@ -407,6 +414,7 @@ int vtkPerceptualLODSelector::RequestData(
   if (!plod::ValidateSelectionInput(in, &why))
   {
     vtkErrorMacro("Invalid input: " << why << "; the previous cut is kept.");
+    output->ShallowCopy(this->Internal->LastOutput);
     return 1;
   }
 
@@ -438,6 +446,7 @@ int vtkPerceptualLODSelector::RequestData(
   output->GetNodeData()->RemoveArray(CutReasonArrayName());
   output->GetNodeData()->AddArray(I.State);
   output->GetNodeData()->AddArray(I.Reason);
+  I.LastOutput->ShallowCopy(output);
   timer->StopTimer();
   this->SelectTime = timer->GetElapsedTime();
   this->NumberOfVisitedNodes = stats.Visited;

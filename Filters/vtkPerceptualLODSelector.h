@@ -47,6 +47,12 @@
  *   Screen mode as the angle between the view ray and GazeDirection, over pi.
  * Frustum culling applies in every mode.
  *
+ * Monotonicity: lowering a tolerance never makes a drawn cell coarser, and faster micro motion
+ * never makes one finer. Moving the eye away never makes a drawn cell finer once the eye is a
+ * few object sizes away. Closer up, v_e turns as the eye moves, and a front-facing cell near
+ * the silhouette can become a contour cell, which the shape test refines; that is SRCC's
+ * behaviour, not an error.
+ *
  * Coordinates: eye, frustum planes, lights, gaze and fovea are in the octree's (object)
  * coordinates, unless CoordinatesAreWorld is on: then they are in world coordinates and
  * ObjectToWorldMatrix (row-major 4x4, x_world = M x_object) maps the octree to the world.
@@ -231,6 +237,7 @@ public:
   vtkGetVectorMacro(PreviousObjectToViewMatrix, double, 16);
   vtkSetMacro(HasPreviousFrame, bool);
   vtkGetMacro(HasPreviousFrame, bool);
+  vtkBooleanMacro(HasPreviousFrame, bool);
   vtkSetMacro(PreviousFrameTime, double);
   vtkGetMacro(PreviousFrameTime, double);
   vtkSetMacro(FrameInterval, double);

@@ -325,8 +325,9 @@ void Selector::Select(
       }
       factor *= std::exp(in.FoveationRate * D);
     }
-    const double Ts = in.ContourTolerance * factor;
-    const double Tb = in.BrightnessTolerance * factor;
+    // a tolerance of 0 accepts nothing above the finest level (even an error of exactly 0)
+    const double Ts = in.ContourTolerance > 0 ? in.ContourTolerance * factor : -1.0;
+    const double Tb = in.BrightnessTolerance > 0 ? in.BrightnessTolerance * factor : -1.0;
 
     const double dE = v.ShapeError[n];
     const double cosT = this->CosTheta[n], sinT = this->SinTheta[n];

@@ -23,6 +23,8 @@
  *    specular power for dC_beta, with the half vector); accept if
  *    `dB max(0, l_p max(0, n.v_e) - |v_d.v_f|) k <= T_b`; else each child through 3 only.
  * 4. A finest cell that is reached is accepted.
+ * A tolerance of 0 accepts nothing above the finest level, even a cell whose error is exactly
+ * 0 (an unlit or flat cell), so that zero tolerances give the full-resolution cut.
  * A cell containing the eye is always refined (its error is unbounded); the eye on a vertex
  * counts as inside.
  *
