@@ -31,13 +31,25 @@ inline bool Finite(const double* x, int n)
   return true;
 }
 
-/// max(0, x)^power, with 0^0 = 1 so that power 0 makes every cosine term constant.
+/// max(0, x)^power, with 0^0 = 1 so that power 0 makes every cosine term constant. Integer
+/// powers up to 2^16 (the usual specular powers) by repeated squaring, exact and fast.
 inline double PositivePower(double x, double power)
 {
   x = std::min(1.0, std::max(0.0, x));
   if (power == 1.0)
   {
     return x;
+  }
+  if (power >= 0 && power <= 65536 && power == std::floor(power))
+  {
+    double result = 1.0, base = x;
+    for (unsigned e = static_cast<unsigned>(power); e; e >>= 1)
+    {
+      if (e & 1u)
+        result *= base;
+      base *= base;
+    }
+    return result;
   }
   return std::pow(x, power);
 }

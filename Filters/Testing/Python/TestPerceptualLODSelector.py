@@ -1,0 +1,73 @@
+"""Python tests of vtkPerceptualLODSelector: the mode names, a camera's numbers, figures of the
+last execution, and the cut arrays as numpy arrays."""
+import unittest
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersSources import vtkSphereSource
+from vtkmodules.vtkRenderingCore import vtkCamera
+
+from perceptual_lod import (vtkMultiscaleOctreeBuilder, vtkMultiscalePatchGenerator,
+                            vtkPerceptualLODSelector)
+
+
+class TestSelector(unittest.TestCase):
+    def setUp(self):
+        self.source = vtkSphereSource()
+        self.source.SetThetaResolution(120)
+        self.source.SetPhiResolution(120)
+        self.builder = vtkMultiscaleOctreeBuilder()
+        self.builder.SetInputConnection(self.source.GetOutputPort())
+        self.builder.SetFinestLevel(7)
+        self.selector = vtkPerceptualLODSelector()
+        self.selector.SetInputConnection(self.builder.GetOutputPort())
+        self.patches = vtkMultiscalePatchGenerator()
+        self.patches.SetInputConnection(self.selector.GetOutputPort())
+
+    def look(self, distance):
+        camera = vtkCamera()
+        camera.SetPosition(0, 0, distance)
+        camera.SetFocalPoint(0, 0, 0)
+        planes = [0.0] * 24
+        camera.GetFrustumPlanes(16 / 9, planes)
+        self.selector.SetEyePosition(camera.GetPosition())
+        self.selector.SetViewAngle(camera.GetViewAngle())
+        self.selector.SetFrustumPlanes(planes)
+
+    def test_modes_by_name(self):
+        s = self.selector
+        for name, value in [('SRCC', s.ERROR_SRCC), ('SCVC', s.ERROR_SCVC),
+                            ('PSEC', s.ERROR_PSEC), ('Distance', s.ERROR_DISTANCE)]:
+            getattr(s, 'SetErrorModelTo' + name)()
+            self.assertEqual(s.GetErrorModel(), value)
+        for name, value in [('None', s.MOTION_NONE), ('MicroMotion', s.MOTION_MICRO),
+                            ('InverseVelocity', s.MOTION_INVERSE_VELOCITY),
+                            ('DirectVelocity', s.MOTION_DIRECT_VELOCITY)]:
+            getattr(s, 'SetMotionModelTo' + name)()
+            self.assertEqual(s.GetMotionModel(), value)
+        s.SetContourTolerance(0.5)
+        s.SetBrightnessTolerance(2.0)
+        s.SetFrameInterval(1 / 120)
+        self.assertAlmostEqual(s.GetFrameInterval(), 1 / 120)
+
+    def test_selection_and_figures(self):
+        self.selector.AddLight(False, 0.3, 0.4, 1.0, 0.9, 0.4)
+        counts = []
+        for distance in (1.5, 3, 6, 12):
+            self.look(distance)
+            self.patches.Update()
+            cut = self.selector.GetOutput()
+            self.assertTrue(cut.HasValidCut())
+            state = vtk_to_numpy(cut.GetNodeData().GetArray('CutState'))
+            reason = vtk_to_numpy(cut.GetNodeData().GetArray('CutReason'))
+            self.assertEqual(int((state == 1).sum()), self.selector.GetNumberOfDrawnNodes())
+            self.assertEqual(int((state > 0).sum()), self.selector.GetNumberOfCutNodes())
+            self.assertTrue(np.all((reason > 0) == (state > 0)))
+            self.assertGreater(self.selector.GetNumberOfVisitedNodes(),
+                               self.selector.GetNumberOfCutNodes() - 1)
+            counts.append(self.patches.GetNumberOfTriangles())
+        self.assertEqual(counts, sorted(counts, reverse=True))  # farther, fewer triangles
+
+
+if __name__ == '__main__':
+    unittest.main()
