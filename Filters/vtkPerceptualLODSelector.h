@@ -212,6 +212,11 @@ public:
     double specular);
   void AddLight(bool positional, double x, double y, double z, double diffuse, double specular);
   void RemoveAllLights() { this->SetNumberOfLights(0); }
+  /// Luminance of an RGB colour (Rec. 709 weights), to fold a light's colour into an intensity.
+  static double Luminance(double r, double g, double b)
+  {
+    return 0.2126 * r + 0.7152 * g + 0.0722 * b;
+  }
   ///@}
 
   ///@{
