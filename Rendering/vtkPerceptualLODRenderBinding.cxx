@@ -1,0 +1,314 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkPerceptualLODRenderBinding.h"
+
+#include "vtkActor.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCamera.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkPerceptualLODSelector.h"
+#include "vtkProp3D.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkTimerLog.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+vtkStandardNewMacro(vtkPerceptualLODRenderBinding);
+
+namespace
+{
+double Luminance(const double c[3])
+{
+  return vtkPerceptualLODSelector::Luminance(c[0], c[1], c[2]);
+}
+
+void Apply(vtkMatrix4x4* m, const double in[3], double out[3])
+{
+  const double p[4] = { in[0], in[1], in[2], 1.0 };
+  double r[4];
+  m->MultiplyPoint(p, r);
+  for (int a = 0; a < 3; ++a)
+  {
+    out[a] = r[3] != 0 ? r[a] / r[3] : r[a];
+  }
+}
+}
+
+//------------------------------------------------------------------------------
+vtkPerceptualLODRenderBinding::vtkPerceptualLODRenderBinding()
+  : Renderer(nullptr)
+  , Selector(nullptr)
+  , Prop3D(nullptr)
+  , Enabled(true)
+  , Observer(vtkCallbackCommand::New())
+  , ObserverTag(0)
+  , HasPrevious(false)
+  , PreviousStart(0)
+  , NumberOfUpdates(0)
+  , MeasuredFrameTime(0)
+  , LastUpdateTime(0)
+{
+  this->Observer->SetCallback(&vtkPerceptualLODRenderBinding::OnStart);
+  this->Observer->SetClientData(this); // a raw pointer: no reference cycle
+  std::fill(this->PreviousObjectToView, this->PreviousObjectToView + 16, 0.0);
+}
+
+//------------------------------------------------------------------------------
+vtkPerceptualLODRenderBinding::~vtkPerceptualLODRenderBinding()
+{
+  this->RemoveObserver();
+  this->Observer->Delete();
+  if (this->Renderer)
+    this->Renderer->UnRegister(this);
+  if (this->Selector)
+    this->Selector->UnRegister(this);
+  if (this->Prop3D)
+    this->Prop3D->UnRegister(this);
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::AddObserver()
+{
+  if (this->Renderer && this->Enabled && !this->ObserverTag)
+  {
+    this->ObserverTag = this->Renderer->AddObserver(vtkCommand::StartEvent, this->Observer);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::RemoveObserver()
+{
+  if (this->Renderer && this->ObserverTag)
+  {
+    this->Renderer->RemoveObserver(this->ObserverTag);
+  }
+  this->ObserverTag = 0;
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::SetRenderer(vtkRenderer* renderer)
+{
+  if (renderer == this->Renderer)
+  {
+    return;
+  }
+  this->RemoveObserver();
+  if (this->Renderer)
+    this->Renderer->UnRegister(this);
+  this->Renderer = renderer;
+  if (this->Renderer)
+    this->Renderer->Register(this);
+  this->HasPrevious = false;
+  this->AddObserver();
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::SetSelector(vtkPerceptualLODSelector* selector)
+{
+  if (selector == this->Selector)
+  {
+    return;
+  }
+  if (this->Selector)
+    this->Selector->UnRegister(this);
+  this->Selector = selector;
+  if (this->Selector)
+    this->Selector->Register(this);
+  this->HasPrevious = false;
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::SetProp3D(vtkProp3D* prop)
+{
+  if (prop == this->Prop3D)
+  {
+    return;
+  }
+  if (this->Prop3D)
+    this->Prop3D->UnRegister(this);
+  this->Prop3D = prop;
+  if (this->Prop3D)
+    this->Prop3D->Register(this);
+  this->HasPrevious = false;
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::SetEnabled(bool enabled)
+{
+  if (enabled == this->Enabled)
+  {
+    return;
+  }
+  this->Enabled = enabled;
+  if (enabled)
+    this->AddObserver();
+  else
+    this->RemoveObserver();
+  this->HasPrevious = false;
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::OnStart(vtkObject*, unsigned long, void* client, void*)
+{
+  static_cast<vtkPerceptualLODRenderBinding*>(client)->Update();
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::Update()
+{
+  vtkRenderer* ren = this->Renderer;
+  vtkPerceptualLODSelector* sel = this->Selector;
+  if (!ren || !sel || !this->Enabled)
+  {
+    return;
+  }
+  const double start = vtkTimerLog::GetUniversalTime();
+  vtkCamera* camera = ren->GetActiveCamera();
+
+  // ---- view, in world coordinates, with the prop's matrix as object -> world -------------------
+  double objectToWorld[16];
+  if (this->Prop3D)
+  {
+    vtkMatrix4x4::DeepCopy(objectToWorld, this->Prop3D->GetMatrix());
+  }
+  else
+  {
+    vtkMatrix4x4::Identity(objectToWorld);
+  }
+  sel->CoordinatesAreWorldOn();
+  sel->SetObjectToWorldMatrix(objectToWorld);
+  int width = 0, height = 0, x0 = 0, y0 = 0;
+  ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  if (width > 0 && height > 0)
+  {
+    sel->SetViewportSize(width, height);
+  }
+  const double aspect = height > 0 ? double(width) / double(height) : 1.0;
+  double planes[24];
+  camera->GetFrustumPlanes(aspect, planes);
+  sel->SetFrustumPlanes(planes);
+  sel->SetEyePosition(camera->GetPosition());
+  sel->SetViewAngle(camera->GetViewAngle());
+  sel->SetParallelProjection(camera->GetParallelProjection() != 0);
+  sel->SetParallelScale(camera->GetParallelScale());
+  sel->SetProjectionDirection(camera->GetDirectionOfProjection());
+
+  // ---- lights ------------------------------------------------------------------------------------
+  struct L
+  {
+    bool Positional;
+    double X[3];
+    double Diffuse, Specular;
+  };
+  std::vector<L> lights;
+  vtkLightCollection* collection = ren->GetLights();
+  if (collection->GetNumberOfItems() == 0 && ren->GetAutomaticLightCreation())
+  {
+    // the renderer is about to create a white headlight of intensity 1
+    double d[3];
+    for (int a = 0; a < 3; ++a)
+      d[a] = camera->GetPosition()[a] - camera->GetFocalPoint()[a];
+    lights.push_back({ false, { d[0], d[1], d[2] }, 1.0, 1.0 });
+  }
+  vtkCollectionSimpleIterator it;
+  collection->InitTraversal(it);
+  while (vtkLight* light = collection->GetNextLight(it))
+  {
+    if (!light->GetSwitch() || light->GetIntensity() <= 0)
+    {
+      continue;
+    }
+    double position[3], focal[3];
+    if (light->LightTypeIsHeadlight())
+    {
+      camera->GetPosition(position);
+      camera->GetFocalPoint(focal);
+    }
+    else if (light->LightTypeIsCameraLight())
+    {
+      vtkMatrix4x4* m = camera->GetCameraLightTransformMatrix();
+      Apply(m, light->GetPosition(), position);
+      Apply(m, light->GetFocalPoint(), focal);
+    }
+    else
+    {
+      light->GetTransformedPosition(position);
+      light->GetTransformedFocalPoint(focal);
+    }
+    L l;
+    l.Positional = light->GetPositional() != 0;
+    for (int a = 0; a < 3; ++a)
+      l.X[a] = l.Positional ? position[a] : position[a] - focal[a];
+    l.Diffuse = light->GetIntensity() * Luminance(light->GetDiffuseColor());
+    l.Specular = light->GetIntensity() * Luminance(light->GetSpecularColor());
+    lights.push_back(l);
+  }
+  sel->SetNumberOfLights(static_cast<int>(lights.size()));
+  for (size_t i = 0; i < lights.size(); ++i)
+  {
+    const L& l = lights[i];
+    sel->SetLight(static_cast<int>(i), l.Positional, l.X[0], l.X[1], l.X[2], l.Diffuse, l.Specular);
+  }
+
+  // ---- material --------------------------------------------------------------------------------
+  if (vtkActor* actor = vtkActor::SafeDownCast(this->Prop3D))
+  {
+    vtkProperty* p = actor->GetProperty();
+    sel->SetDiffuseReflectance(p->GetDiffuse() * Luminance(p->GetDiffuseColor()));
+    sel->SetSpecularReflectance(p->GetSpecular() * Luminance(p->GetSpecularColor()));
+    sel->SetSpecularPower(p->GetSpecularPower());
+  }
+
+  // ---- motion ----------------------------------------------------------------------------------
+  double view[16], objectToView[16];
+  vtkMatrix4x4::DeepCopy(view, camera->GetViewTransformMatrix());
+  vtkMatrix4x4::Multiply4x4(view, objectToWorld, objectToView);
+  sel->SetObjectToViewMatrix(objectToView);
+  if (!this->HasPrevious)
+  {
+    // first frame: the previous frame is this one (no motion), so that the second frame of a
+    // still scene changes nothing
+    sel->SetPreviousObjectToViewMatrix(objectToView);
+    sel->HasPreviousFrameOn();
+  }
+  else
+  {
+    this->MeasuredFrameTime = start - this->PreviousStart;
+    const bool moved = !std::equal(objectToView, objectToView + 16, this->PreviousObjectToView);
+    sel->SetPreviousObjectToViewMatrix(this->PreviousObjectToView);
+    sel->HasPreviousFrameOn();
+    if (moved)
+    {
+      // only a moving scene needs the frame time; a still one keeps the old value, so that
+      // nothing changes and nothing re-executes
+      sel->SetPreviousFrameTime(this->MeasuredFrameTime);
+    }
+  }
+  std::copy(objectToView, objectToView + 16, this->PreviousObjectToView);
+  this->PreviousStart = start;
+  this->HasPrevious = true;
+  ++this->NumberOfUpdates;
+  this->LastUpdateTime = vtkTimerLog::GetUniversalTime() - start;
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Renderer: " << this->Renderer << "\n";
+  os << indent << "Selector: " << this->Selector << "\n";
+  os << indent << "Prop3D: " << this->Prop3D << "\n";
+  os << indent << "Enabled: " << (this->Enabled ? "On" : "Off") << "\n";
+  os << indent << "NumberOfUpdates: " << this->NumberOfUpdates << "\n";
+  os << indent << "MeasuredFrameTime: " << this->MeasuredFrameTime << " s\n";
+  os << indent << "LastUpdateTime: " << this->LastUpdateTime << " s\n";
+}
