@@ -13,14 +13,20 @@
 #include "vtkFloatArray.h"
 #include "vtkMath.h"
 #include "vtkNew.h"
+#include "vtkOBJReader.h"
 #include "vtkPLYReader.h"
+#include "vtkSTLReader.h"
+#include "vtkXMLPolyDataReader.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkPolyDataAlgorithm.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
 #include "vtkTransform.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -220,6 +226,45 @@ inline vtkSmartPointer<vtkPolyData> ReadPLY(const std::string& file)
   auto pd = vtkSmartPointer<vtkPolyData>::New();
   pd->ShallowCopy(reader->GetOutput());
   return pd;
+}
+
+/// Reads a model by extension: PLY, STL, OBJ or VTP; nullptr when it cannot be read.
+inline vtkSmartPointer<vtkPolyData> ReadModel(const std::string& file)
+{
+  std::string ext = file.substr(file.find_last_of('.') == std::string::npos ? file.size()
+                                                                            : file.find_last_of('.'));
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".ply")
+  {
+    return ReadPLY(file);
+  }
+  vtkSmartPointer<vtkAlgorithm> reader;
+  if (ext == ".stl")
+  {
+    auto r = vtkSmartPointer<vtkSTLReader>::New();
+    r->SetFileName(file.c_str());
+    reader = r;
+  }
+  else if (ext == ".obj")
+  {
+    auto r = vtkSmartPointer<vtkOBJReader>::New();
+    r->SetFileName(file.c_str());
+    reader = r;
+  }
+  else if (ext == ".vtp")
+  {
+    auto r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    r->SetFileName(file.c_str());
+    reader = r;
+  }
+  else
+  {
+    return nullptr;
+  }
+  reader->Update();
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  pd->ShallowCopy(reader->GetOutputDataObject(0));
+  return pd->GetNumberOfPoints() > 0 ? pd : nullptr;
 }
 
 /**

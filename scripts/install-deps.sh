@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
-  libvtk9-dev python3-vtk9 python3-numpy python3-matplotlib
+  libvtk9-dev python3-vtk9 python3-numpy python3-matplotlib mpi-default-dev
   libeigen3-dev libgtest-dev libbenchmark-dev
   xvfb xauth libgl1-mesa-dri
 )

@@ -15,64 +15,14 @@
 #include "vtkMultiscaleOctreeCutter.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
-#include "vtkOBJReader.h"
 #include "vtkPolyData.h"
-#include "vtkSTLReader.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
-#include "vtkXMLPolyDataReader.h"
 
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <string>
 #include <vector>
-
-namespace
-{
-vtkSmartPointer<vtkPolyData> ReadModel(const std::string& file)
-{
-  auto ends = [&](const char* ext) {
-    const size_t n = std::strlen(ext);
-    if (file.size() < n)
-      return false;
-    std::string tail = file.substr(file.size() - n);
-    std::transform(tail.begin(), tail.end(), tail.begin(), ::tolower);
-    return tail == ext;
-  };
-  vtkSmartPointer<vtkAlgorithm> reader;
-  if (ends(".ply"))
-  {
-    return plodtest::ReadPLY(file);
-  }
-  if (ends(".stl"))
-  {
-    auto r = vtkSmartPointer<vtkSTLReader>::New();
-    r->SetFileName(file.c_str());
-    reader = r;
-  }
-  else if (ends(".obj"))
-  {
-    auto r = vtkSmartPointer<vtkOBJReader>::New();
-    r->SetFileName(file.c_str());
-    reader = r;
-  }
-  else if (ends(".vtp"))
-  {
-    auto r = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-    r->SetFileName(file.c_str());
-    reader = r;
-  }
-  else
-  {
-    return nullptr;
-  }
-  reader->Update();
-  auto pd = vtkSmartPointer<vtkPolyData>::New();
-  pd->ShallowCopy(reader->GetOutputDataObject(0));
-  return pd->GetNumberOfPoints() > 0 ? pd : nullptr;
-}
-}
 
 int main(int argc, char* argv[])
 {
@@ -104,7 +54,7 @@ int main(int argc, char* argv[])
   }
   else
   {
-    model = ReadModel(file);
+    model = plodtest::ReadModel(file);
     if (!model)
     {
       std::fprintf(stderr, "cannot read a model from '%s' (PLY, STL, OBJ or VTP)\n", file.c_str());

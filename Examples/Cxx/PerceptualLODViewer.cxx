@@ -1,0 +1,397 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// PerceptualLOD's viewer: renders a model with the perceptual LOD, frame by frame.
+//
+//   PerceptualLODViewer [model.ply|.stl|.obj|.vtp] [--offscreen] [--frames N] [--out DIR]
+//                       [--size W H] [--level L] [--mode srcc|tmm|scvc|psec|distance|ipv|dpv|fovea]
+//
+// Without a file it uses a generated detailed model (a displaced sphere, about 250k triangles).
+// Interactive keys:
+//   1 SRCC   2 SRCC+TMM   3 SCVC   4 PSEC   5 Distance   6 IPV   7 DPV   8 foveated
+//   0 full resolution    + / - tolerances x1.5 / /1.5    h help
+// With --offscreen it follows a scripted path: the object translates, the camera zooms in, the
+// object rotates. It writes per-frame figures to DIR/frames.csv, every 10th frame as
+// DIR/frame_NNNN.png, and DIR/compare_*.png images with full resolution (left) beside the LOD
+// (right) at the same instant.
+#include "plodTestUtilities.h"
+
+#include "vtkActor.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCamera.h"
+#include "vtkImageAppend.h"
+#include "vtkImageData.h"
+#include "vtkInteractorStyleTrackballCamera.h"
+#include "vtkMultiscaleOctree.h"
+#include "vtkMultiscaleOctreeBuilder.h"
+#include "vtkMultiscalePatchGenerator.h"
+#include "vtkNew.h"
+#include "vtkPNGWriter.h"
+#include "vtkPerceptualLODRenderBinding.h"
+#include "vtkPerceptualLODSelector.h"
+#include "vtkPointData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderWindowInteractor.h"
+#include "vtkRenderer.h"
+#include "vtkTextActor.h"
+#include "vtkTextProperty.h"
+#include "vtkTimerLog.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/stat.h>
+
+namespace
+{
+const char* ModeNames[] = { "full resolution", "SRCC", "SRCC+TMM", "SCVC", "PSEC",
+  "Distance (Wang & Sato)", "SRCC+IPV", "SRCC+DPV", "SRCC+foveated" };
+
+/// The pipeline and the figures shown on screen.
+struct Viewer
+{
+  vtkNew<vtkMultiscaleOctreeBuilder> Builder;
+  vtkNew<vtkPerceptualLODSelector> Selector;
+  vtkNew<vtkMultiscalePatchGenerator> Patches;
+  vtkNew<vtkPolyDataMapper> LODMapper, FullMapper;
+  vtkNew<vtkActor> LODActor, FullActor;
+  vtkNew<vtkRenderer> Renderer;
+  vtkNew<vtkRenderWindow> Window;
+  vtkNew<vtkPerceptualLODRenderBinding> Binding;
+  vtkNew<vtkTextActor> Text;
+  int Mode = 1;
+  double Scale = 1.0; // tolerance scale
+  double RenderStart = 0, RenderTime = 0;
+
+  void SetMode(int mode)
+  {
+    this->Mode = mode;
+    const bool full = mode == 0;
+    this->FullActor->SetVisibility(full);
+    this->LODActor->SetVisibility(!full);
+    this->Binding->SetEnabled(!full);
+    vtkPerceptualLODSelector* s = this->Selector;
+    s->SetErrorModelToSRCC();
+    s->SetMotionModelToNone();
+    s->SetFoveationModeToOff();
+    switch (mode)
+    {
+      case 2:
+        s->SetMotionModelToMicroMotion();
+        break;
+      case 3:
+        s->SetErrorModelToSCVC();
+        break;
+      case 4:
+        s->SetErrorModelToPSEC();
+        break;
+      case 5:
+        s->SetErrorModelToDistance();
+        break;
+      case 6:
+        s->SetMotionModelToInverseVelocity();
+        break;
+      case 7:
+        s->SetMotionModelToDirectVelocity();
+        break;
+      case 8:
+        s->SetFoveationModeToScreen();
+        break;
+      default:
+        break;
+    }
+  }
+
+  void SetScale(double scale)
+  {
+    this->Scale = scale;
+    this->Selector->SetContourTolerance(1.0 * scale);
+    this->Selector->SetBrightnessTolerance(4.0 * scale);
+  }
+
+  vtkIdType Triangles()
+  {
+    return this->Mode == 0 ? this->FullMapper->GetInput()->GetNumberOfPolys()
+                           : this->Patches->GetNumberOfTriangles();
+  }
+
+  std::string Status()
+  {
+    std::ostringstream os;
+    os.precision(3);
+    os << ModeNames[this->Mode] << "   T_s " << this->Selector->GetContourTolerance() << " px, T_b "
+       << this->Selector->GetBrightnessTolerance() << "\n"
+       << this->Triangles() << " triangles";
+    if (this->Mode != 0)
+    {
+      os << "   select " << this->Selector->GetSelectTime() * 1e3 << " ms   patch "
+         << this->Patches->GetGenerateTime() * 1e3 << " ms";
+    }
+    os << "   render " << this->RenderTime * 1e3 << " ms\nkeys: 1-8 modes, 0 full, +/- tolerance, h help";
+    return os.str();
+  }
+};
+
+void OnKey(vtkObject* caller, unsigned long, void* client, void*)
+{
+  auto* viewer = static_cast<Viewer*>(client);
+  auto* interactor = static_cast<vtkRenderWindowInteractor*>(caller);
+  const std::string key = interactor->GetKeySym() ? interactor->GetKeySym() : "";
+  if (key.size() == 1 && key[0] >= '0' && key[0] <= '8')
+    viewer->SetMode(key[0] - '0');
+  else if (key == "plus" || key == "equal" || key == "KP_Add")
+    viewer->SetScale(viewer->Scale * 1.5);
+  else if (key == "minus" || key == "KP_Subtract")
+    viewer->SetScale(viewer->Scale / 1.5);
+  else if (key == "h")
+    std::printf("1 SRCC, 2 SRCC+TMM, 3 SCVC, 4 PSEC, 5 Distance, 6 IPV, 7 DPV, 8 foveated, "
+                "0 full resolution, +/- tolerances\n");
+  else
+    return;
+  interactor->Render();
+}
+
+void OnStart(vtkObject*, unsigned long, void* client, void*)
+{
+  static_cast<Viewer*>(client)->RenderStart = vtkTimerLog::GetUniversalTime();
+}
+
+void OnEnd(vtkObject*, unsigned long, void* client, void*)
+{
+  auto* v = static_cast<Viewer*>(client);
+  v->RenderTime = vtkTimerLog::GetUniversalTime() - v->RenderStart;
+}
+
+vtkSmartPointer<vtkImageData> Grab(vtkRenderWindow* window)
+{
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->DeepCopy(grab->GetOutput());
+  return image;
+}
+
+double PSNR(vtkImageData* a, vtkImageData* b)
+{
+  vtkDataArray* x = a->GetPointData()->GetScalars();
+  vtkDataArray* y = b->GetPointData()->GetScalars();
+  double sum = 0;
+  const vtkIdType n = x->GetNumberOfTuples();
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    double lx = 0, ly = 0;
+    const double w[3] = { 0.2126, 0.7152, 0.0722 };
+    for (int c = 0; c < 3; ++c)
+    {
+      lx += w[c] * x->GetComponent(i, c);
+      ly += w[c] * y->GetComponent(i, c);
+    }
+    sum += (lx - ly) * (lx - ly);
+  }
+  const double mse = sum / std::max<vtkIdType>(n, 1);
+  return mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 99.0;
+}
+
+void WritePNG(vtkImageData* image, const std::string& file)
+{
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(file.c_str());
+  writer->SetInputData(image);
+  writer->Write();
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  std::string file, out = "perceptual_lod_output", modeName = "srcc";
+  bool offscreen = false;
+  int frames = 90, width = 960, height = 720, level = -1;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    if (a == "--offscreen")
+      offscreen = true;
+    else if (a == "--frames" && i + 1 < argc)
+      frames = std::atoi(argv[++i]);
+    else if (a == "--out" && i + 1 < argc)
+      out = argv[++i];
+    else if (a == "--level" && i + 1 < argc)
+      level = std::atoi(argv[++i]);
+    else if (a == "--mode" && i + 1 < argc)
+      modeName = argv[++i];
+    else if (a == "--size" && i + 2 < argc)
+    {
+      width = std::atoi(argv[++i]);
+      height = std::atoi(argv[++i]);
+    }
+    else if (a == "-h" || a == "--help")
+    {
+      std::printf("usage: %s [model] [--offscreen] [--frames N] [--out DIR] [--size W H] "
+                  "[--level L] [--mode srcc|tmm|scvc|psec|distance|ipv|dpv|fovea]\n",
+        argv[0]);
+      return 0;
+    }
+    else
+      file = a;
+  }
+  vtkSmartPointer<vtkPolyData> model =
+    file.empty() ? plodtest::MakeBlob(11, 350, 0.2) : plodtest::ReadModel(file);
+  if (!model)
+  {
+    std::fprintf(stderr, "cannot read a model from '%s' (PLY, STL, OBJ or VTP)\n", file.c_str());
+    return 1;
+  }
+
+  Viewer v;
+  v.Builder->SetInputData(model);
+  v.Builder->SetFinestLevel(level);
+  v.Selector->SetInputConnection(v.Builder->GetOutputPort());
+  v.Patches->SetInputConnection(v.Selector->GetOutputPort());
+  v.LODMapper->SetInputConnection(v.Patches->GetOutputPort());
+  v.FullMapper->SetInputData(model);
+  for (vtkActor* actor : { v.LODActor.Get(), v.FullActor.Get() })
+  {
+    actor->GetProperty()->SetColor(0.85, 0.82, 0.75);
+    actor->GetProperty()->SetSpecular(0.3);
+    actor->GetProperty()->SetSpecularPower(20);
+  }
+  v.LODActor->SetMapper(v.LODMapper);
+  v.FullActor->SetMapper(v.FullMapper);
+  v.Renderer->AddActor(v.LODActor);
+  v.Renderer->AddActor(v.FullActor);
+  v.Renderer->SetBackground(0.1, 0.1, 0.15);
+  v.Text->GetTextProperty()->SetFontSize(16);
+  v.Text->SetPosition(10, 10);
+  v.Renderer->AddActor2D(v.Text);
+  v.Window->AddRenderer(v.Renderer);
+  v.Window->SetSize(width, height);
+  v.Window->SetWindowName("PerceptualLOD");
+  v.Binding->SetRenderer(v.Renderer);
+  v.Binding->SetSelector(v.Selector);
+  v.Binding->SetProp3D(v.LODActor);
+  vtkNew<vtkCallbackCommand> start, end;
+  start->SetCallback(OnStart);
+  start->SetClientData(&v);
+  end->SetCallback(OnEnd);
+  end->SetClientData(&v);
+  v.Renderer->AddObserver(vtkCommand::StartEvent, start);
+  v.Renderer->AddObserver(vtkCommand::EndEvent, end);
+  const std::string modes[] = { "full", "srcc", "tmm", "scvc", "psec", "distance", "ipv", "dpv",
+    "fovea" };
+  for (int m = 0; m < 9; ++m)
+    if (modeName == modes[m])
+      v.SetMode(m);
+  v.Renderer->ResetCamera();
+  v.Builder->Update();
+  std::printf("model: %lld triangles; octree: %lld nodes, level %d, built in %.0f ms\n",
+    static_cast<long long>(model->GetNumberOfPolys()),
+    static_cast<long long>(v.Builder->GetOutput()->GetNumberOfNodes()),
+    v.Builder->GetOutput()->GetFinestLevel(), v.Builder->GetBuildTime() * 1e3);
+
+  if (!offscreen)
+  {
+    vtkNew<vtkRenderWindowInteractor> interactor;
+    vtkNew<vtkInteractorStyleTrackballCamera> style;
+    interactor->SetInteractorStyle(style);
+    interactor->SetRenderWindow(v.Window);
+    vtkNew<vtkCallbackCommand> key;
+    key->SetCallback(OnKey);
+    key->SetClientData(&v);
+    interactor->AddObserver(vtkCommand::KeyPressEvent, key);
+    vtkNew<vtkCallbackCommand> status;
+    status->SetClientData(&v);
+    status->SetCallback([](vtkObject*, unsigned long, void* c, void*) {
+      auto* viewer = static_cast<Viewer*>(c);
+      viewer->Text->SetInput(viewer->Status().c_str());
+    });
+    v.Window->AddObserver(vtkCommand::EndEvent, status);
+    interactor->Initialize();
+    v.Window->Render();
+    interactor->Start();
+    return 0;
+  }
+
+  // ---- scripted offscreen run -----------------------------------------------------------------
+  v.Window->SetOffScreenRendering(1);
+  mkdir(out.c_str(), 0755);
+  std::ofstream csv(out + "/frames.csv");
+  csv << "frame,phase,mode,triangles,select_ms,patch_ms,render_ms,binding_us,visited,drawn,"
+         "psnr_db\n";
+  vtkCamera* camera = v.Renderer->GetActiveCamera();
+  const double startDistance = camera->GetDistance();
+  double bounds[6];
+  model->GetBounds(bounds);
+  const double size = std::max({ bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4] });
+  const int lodMode = v.Mode == 0 ? 1 : v.Mode;
+  v.SetMode(lodMode);
+  for (int f = 0; f < frames; ++f)
+  {
+    // three phases: translation, zoom, rotation
+    const double t = double(f) / std::max(1, frames - 1);
+    const char* phase = t < 1.0 / 3 ? "translate" : (t < 2.0 / 3 ? "zoom" : "rotate");
+    if (t < 1.0 / 3)
+    {
+      const double x = 0.3 * size * std::sin(2 * 3.14159265 * t * 3);
+      v.LODActor->SetPosition(x, 0, 0);
+    }
+    else if (t < 2.0 / 3)
+    {
+      const double s = (t - 1.0 / 3) * 3;
+      camera->SetPosition(camera->GetFocalPoint()[0], camera->GetFocalPoint()[1],
+        camera->GetFocalPoint()[2] + startDistance * (1.0 - 0.35 * s));
+      v.Renderer->ResetCameraClippingRange();
+    }
+    else
+    {
+      v.LODActor->RotateY(3.0);
+    }
+    v.FullActor->SetUserMatrix(nullptr);
+    v.FullActor->SetPosition(v.LODActor->GetPosition());
+    v.FullActor->SetOrientation(v.LODActor->GetOrientation());
+    // LOD frame
+    v.SetMode(lodMode);
+    v.Text->SetInput("");
+    v.Window->Render();
+    auto lod = Grab(v.Window);
+    const double renderMs = v.RenderTime * 1e3;
+    const vtkIdType triangles = v.Triangles();
+    // full resolution at the same instant, for the PSNR
+    v.SetMode(0);
+    v.Window->Render();
+    auto full = Grab(v.Window);
+    const double psnr = PSNR(full, lod);
+    v.SetMode(lodMode);
+    csv << f << "," << phase << "," << ModeNames[lodMode] << "," << triangles << ","
+        << v.Selector->GetSelectTime() * 1e3 << "," << v.Patches->GetGenerateTime() * 1e3 << ","
+        << renderMs << "," << v.Binding->GetLastUpdateTime() * 1e6 << ","
+        << v.Selector->GetNumberOfVisitedNodes() << "," << v.Selector->GetNumberOfDrawnNodes()
+        << "," << psnr << "\n";
+    char name[64];
+    if (f % 10 == 0)
+    {
+      std::snprintf(name, sizeof(name), "/frame_%04d.png", f);
+      WritePNG(lod, out + name);
+    }
+    if (f == frames / 6 || f == frames / 2 || f == (5 * frames) / 6)
+    {
+      vtkNew<vtkImageAppend> side;
+      side->SetAppendAxis(0);
+      side->AddInputData(full);
+      side->AddInputData(lod);
+      side->Update();
+      std::snprintf(name, sizeof(name), "/compare_%s.png", phase);
+      WritePNG(side->GetOutput(), out + name);
+    }
+    std::printf("frame %3d %-9s %8lld triangles  select %6.2f ms  patch %6.2f ms  render %7.1f ms"
+                "  PSNR %5.2f dB\n",
+      f, phase, static_cast<long long>(triangles), v.Selector->GetSelectTime() * 1e3,
+      v.Patches->GetGenerateTime() * 1e3, renderMs, psnr);
+  }
+  std::printf("wrote %s/frames.csv and PNG frames\n", out.c_str());
+  return 0;
+}
