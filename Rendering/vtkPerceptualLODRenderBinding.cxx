@@ -269,28 +269,37 @@ void vtkPerceptualLODRenderBinding::Update()
   }
 
   // ---- motion ----------------------------------------------------------------------------------
+  // Pushed only when the selector's motion model uses it, so that a camera coming to rest does
+  // not re-execute a selector that ignores motion.
   double view[16], objectToView[16];
   vtkMatrix4x4::DeepCopy(view, camera->GetViewTransformMatrix());
   vtkMatrix4x4::Multiply4x4(view, objectToWorld, objectToView);
-  sel->SetObjectToViewMatrix(objectToView);
-  if (!this->HasPrevious)
-  {
-    // first frame: the previous frame is this one (no motion), so that the second frame of a
-    // still scene changes nothing
-    sel->SetPreviousObjectToViewMatrix(objectToView);
-    sel->HasPreviousFrameOn();
-  }
-  else
+  const bool motion = sel->GetMotionModel() != vtkPerceptualLODSelector::MOTION_NONE;
+  if (this->HasPrevious)
   {
     this->MeasuredFrameTime = start - this->PreviousStart;
-    const bool moved = !std::equal(objectToView, objectToView + 16, this->PreviousObjectToView);
-    sel->SetPreviousObjectToViewMatrix(this->PreviousObjectToView);
-    sel->HasPreviousFrameOn();
-    if (moved)
+  }
+  if (motion)
+  {
+    sel->SetObjectToViewMatrix(objectToView);
+    if (!this->HasPrevious)
     {
-      // only a moving scene needs the frame time; a still one keeps the old value, so that
-      // nothing changes and nothing re-executes
-      sel->SetPreviousFrameTime(this->MeasuredFrameTime);
+      // first frame: the previous frame is this one (no motion), so that the second frame of
+      // a still scene changes nothing
+      sel->SetPreviousObjectToViewMatrix(objectToView);
+      sel->HasPreviousFrameOn();
+    }
+    else
+    {
+      const bool moved = !std::equal(objectToView, objectToView + 16, this->PreviousObjectToView);
+      sel->SetPreviousObjectToViewMatrix(this->PreviousObjectToView);
+      sel->HasPreviousFrameOn();
+      if (moved)
+      {
+        // only a moving scene needs the frame time; a still one keeps the old value, so that
+        // nothing changes and nothing re-executes
+        sel->SetPreviousFrameTime(this->MeasuredFrameTime);
+      }
     }
   }
   std::copy(objectToView, objectToView + 16, this->PreviousObjectToView);

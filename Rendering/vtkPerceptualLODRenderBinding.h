@@ -21,7 +21,13 @@
  * - motion: the object->view matrix (view transform times prop matrix) of this frame and of
  *   the previous one, and the measured time between the previous frame's start and this one's.
  *   The measured time is only pushed when the object->view matrix moved, so a still scene
- *   changes nothing and nothing re-executes.
+ *   changes nothing and nothing re-executes. Motion is pushed only when the selector's motion
+ *   model is not None.
+ *
+ * @warning The LOD output holds only what the current view draws, so its bounds change with the
+ * view. Reset cameras and clipping ranges with the model's bounds
+ * (vtkRenderer::ResetCamera(bounds), ResetCameraClippingRange(bounds)), not from the LOD
+ * actor, or the clipping planes fit a partial surface.
  *
  * The binding holds its renderer, selector and prop; the renderer's observer holds only a raw
  * pointer back, so there is no reference cycle. The observer is removed when the binding is

@@ -29,6 +29,7 @@
 #include "vtkPerceptualLODSelector.h"
 #include "vtkPointData.h"
 #include "vtkPolyDataMapper.h"
+#include "vtkPolyDataNormals.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderWindowInteractor.h"
@@ -253,7 +254,12 @@ int main(int argc, char* argv[])
   v.Selector->SetInputConnection(v.Builder->GetOutputPort());
   v.Patches->SetInputConnection(v.Selector->GetOutputPort());
   v.LODMapper->SetInputConnection(v.Patches->GetOutputPort());
-  v.FullMapper->SetInputData(model);
+  // the full-resolution reference, smooth-shaded like the LOD (whose normals are cone axes)
+  vtkNew<vtkPolyDataNormals> normals;
+  normals->SetInputData(model);
+  normals->SplittingOff();
+  normals->Update();
+  v.FullMapper->SetInputConnection(normals->GetOutputPort());
   for (vtkActor* actor : { v.LODActor.Get(), v.FullActor.Get() })
   {
     actor->GetProperty()->SetColor(0.85, 0.82, 0.75);
@@ -286,7 +292,10 @@ int main(int argc, char* argv[])
   for (int m = 0; m < 9; ++m)
     if (modeName == modes[m])
       v.SetMode(m);
-  v.Renderer->ResetCamera();
+  // the model's bounds: the LOD output only holds what the view draws
+  double modelBounds[6];
+  model->GetBounds(modelBounds);
+  v.Renderer->ResetCamera(modelBounds);
   v.Builder->Update();
   std::printf("model: %lld triangles; octree: %lld nodes, level %d, built in %.0f ms\n",
     static_cast<long long>(model->GetNumberOfPolys()),
@@ -344,7 +353,7 @@ int main(int argc, char* argv[])
       const double s = (t - 1.0 / 3) * 3;
       camera->SetPosition(camera->GetFocalPoint()[0], camera->GetFocalPoint()[1],
         camera->GetFocalPoint()[2] + startDistance * (1.0 - 0.35 * s));
-      v.Renderer->ResetCameraClippingRange();
+      v.Renderer->ResetCameraClippingRange(modelBounds);
     }
     else
     {

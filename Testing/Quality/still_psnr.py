@@ -6,8 +6,9 @@ full-resolution image, same view, for SRCC, SCVC and PSEC, at three viewing dist
 
 For each distance, SRCC runs at the default tolerances (T_s = 1 px, T_b = 4). SCVC's and PSEC's
 contour tolerance is then tuned by bisection so that their triangle count is within 2% of
-SRCC's. All images are rendered offscreen in the same window: flat grey material, one
-headlight, 800x600 pixels. PSNR is computed on 8-bit luminance over the whole image.
+SRCC's. All images are rendered offscreen in the same window: grey material, one headlight,
+800x600 pixels; the full-resolution reference is smooth-shaded (vtkPolyDataNormals, no
+splitting) like the LOD. PSNR is computed on 8-bit luminance over the whole image.
 """
 import argparse
 import math
@@ -16,6 +17,7 @@ import sys
 import numpy as np
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersCore import vtkPolyDataNormals
 from vtkmodules.vtkIOPLY import vtkPLYReader
 from vtkmodules.vtkRenderingCore import (vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer,
                                          vtkRenderWindow, vtkWindowToImageFilter)
@@ -35,7 +37,12 @@ class Scene:
         reader.SetFileName(model)
         reader.Update()
         self.reader = reader
-        self.full = reader.GetOutput()
+        # the reference is smooth-shaded, like the LOD (whose point normals are cone axes)
+        normals = vtkPolyDataNormals()
+        normals.SetInputConnection(reader.GetOutputPort())
+        normals.SplittingOff()
+        normals.Update()
+        self.full = normals.GetOutput()
         self.builder = vtkMultiscaleOctreeBuilder()
         self.builder.SetInputConnection(reader.GetOutputPort())
         self.builder.SetFinestLevel(8)

@@ -285,7 +285,9 @@ TEST(PerceptualLODRenderBinding, FiguresMatchHandComputation)
     vtkMatrix4x4* m = s.Actor->GetMatrix();
     for (int i = 0; i < 16; ++i)
       EXPECT_DOUBLE_EQ(sel->GetObjectToWorldMatrix()[i], m->GetElement(i / 4, i % 4));
-    // object -> view = view transform x actor matrix
+    // object -> view = view transform x actor matrix (pushed when a motion model is on)
+    sel->SetMotionModelToMicroMotion();
+    s.Window->Render();
     vtkNew<vtkMatrix4x4> ov;
     vtkMatrix4x4::Multiply4x4(camera->GetViewTransformMatrix(), m, ov);
     for (int i = 0; i < 16; ++i)
