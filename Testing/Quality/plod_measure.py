@@ -1,0 +1,739 @@
+"""Measure the trade: speed against accuracy, PerceptualLOD's methods beside the papers' and
+VTK's alternatives. One command writes CSV files, PNG plots and a Markdown results page.
+
+    PYTHONPATH=build/lib/python3/dist-packages xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \
+        /usr/bin/python3 Testing/Quality/plod_measure.py --out docs/results [--quick]
+
+--quick runs a small generated model with few frames (the CTest smoke test, under a minute).
+Without it: the Stanford bunny mesh and the merged bunny range scans (when ../shared/data is
+there), and a generated model of 1,005,360 triangles.
+
+What it measures (METHOD §4):
+1. still images at equal triangle counts (SRCC Fig. 9): PSNR and SSIM against full resolution
+   for SRCC, SCVC, PSEC, Distance, foveated SRCC, a static vtkQuadricDecimation done once at the
+   same count, and vtkQuadricClustering re-run for the frame; three viewing distances;
+2. the speed/accuracy frontier: tolerance sweeps of SRCC, SCVC and PSEC, PSNR against
+   triangles and against frame time (select + patch + render);
+3. triangles against viewing distance (SRCC Fig. 19) and against speed (TMM Fig. 8);
+4. the moving-image protocol of TMM §5.3: movements T (translation), Z (zoom), R (rotation) at
+   dt = 1/30, 1/60, 1/120 s. Frames run back to back: a frame shows the scene as it was when
+   its work started and stays up until the next one is done, its processing time being its
+   measured select + patch + render time. At every display instant k dt the shown image is
+   compared with the full-resolution image of that instant. IPV and DPV are calibrated (their
+   speed constant, by bisection) so that their mean frame time equals TMM's; vtkLODActor is run
+   with a desired update rate of 1 / dt;
+5. Zhu's perceptual metric PM = VPs/TPs (plod_metrics.perceptual_metric) over viewing distance
+   from d_1 = R / sin(theta/2), for the bunny and Stanford's own bun_zipper_res2..4, and the
+   distances at which PM crosses 0.5, 0.25 and 0.1 (where discrete levels would switch).
+
+Rendering is offscreen VTK (Mesa llvmpipe under Xvfb), grey material, one headlight; full
+resolution is smooth-shaded (vtkPolyDataNormals) like the LOD.
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+import time
+
+import numpy as np
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+import vtkmodules.vtkRenderingLOD  # noqa: F401
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.vtkFiltersCore import (vtkPolyDataNormals, vtkQuadricClustering,
+                                       vtkQuadricDecimation)
+from vtkmodules.vtkFiltersSources import vtkSphereSource
+from vtkmodules.vtkIOPLY import vtkPLYReader
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer,
+                                         vtkRenderWindow, vtkWindowToImageFilter)
+from vtkmodules.vtkRenderingLOD import vtkLODActor
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plod_metrics as metrics  # noqa: E402
+from perceptual_lod import (vtkMultiscaleOctreeBuilder, vtkMultiscaleOctreeCutter,  # noqa: E402
+                            vtkMultiscalePatchGenerator, vtkPerceptualLODSelector)
+
+METHODS = {
+    # name: (error model, motion model, foveation)
+    'SRCC': ('SRCC', 'None', False),
+    'TMM': ('SRCC', 'MicroMotion', False),
+    'SCVC': ('SCVC', 'None', False),
+    'PSEC': ('PSEC', 'None', False),
+    'IPV': ('SRCC', 'InverseVelocity', False),
+    'DPV': ('SRCC', 'DirectVelocity', False),
+    'Distance': ('Distance', 'None', False),
+    'Foveated': ('SRCC', 'None', True),
+}
+
+
+# ---- models -----------------------------------------------------------------------------------
+
+def generated_model(resolution, noise=0.25, seed=11):
+    """A closed detailed model: a UV sphere displaced by random waves (as plodtest::MakeBlob)."""
+    sphere = vtkSphereSource()
+    sphere.SetThetaResolution(resolution)
+    sphere.SetPhiResolution(resolution)
+    sphere.Update()
+    pd = vtkPolyData()
+    pd.DeepCopy(sphere.GetOutput())
+    rng = np.random.default_rng(seed)
+    waves = rng.uniform(-1, 1, size=(8, 4))
+    pts = vtk_to_numpy(pd.GetPoints().GetData())
+    x = pts / np.linalg.norm(pts, axis=1)[:, None]
+    r = np.ones(len(x))
+    for k, w in enumerate(waves):
+        r += noise / 8 * np.sin((1 + 2 * k) * (x @ w[:3]) + 3 * w[3])
+    pts[:] = x * r[:, None]
+    pd.GetPoints().Modified()
+    return pd
+
+
+def read_ply(path):
+    reader = vtkPLYReader()
+    reader.SetFileName(path)
+    reader.Update()
+    pd = vtkPolyData()
+    pd.DeepCopy(reader.GetOutput())
+    return pd
+
+
+def bunny_scans(data):
+    """The ten range scans merged with bun.conf, each point with its scanner position."""
+    from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints
+    points, scanners = [], []
+    with open(os.path.join(data, 'bun.conf')) as conf:
+        for line in conf:
+            f = line.split()
+            if not f or f[0] != 'bmesh':
+                continue
+            t = np.array([float(v) for v in f[2:5]])
+            qx, qy, qz, qw = (float(v) for v in f[5:9])
+            R = np.array([[1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)],
+                          [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)],
+                          [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)]])
+            scan = read_ply(os.path.join(data, f[1]))
+            p = vtk_to_numpy(scan.GetPoints().GetData()).astype(np.float64)
+            points.append(p @ R.T + t)
+            scanners.append(np.tile(R @ np.array([0, 0, 1.0]) + t, (len(p), 1)))
+    p = np.concatenate(points)
+    s = np.concatenate(scanners)
+    vp = vtkPoints()
+    vp.SetDataTypeToDouble()
+    vp.SetNumberOfPoints(len(p))
+    for i, x in enumerate(p):
+        vp.SetPoint(i, x)
+    arr = vtkDoubleArray()
+    arr.SetName('ScannerPosition')
+    arr.SetNumberOfComponents(3)
+    arr.SetNumberOfTuples(len(s))
+    for i, x in enumerate(s):
+        arr.SetTuple3(i, *x)
+    pd = vtkPolyData()
+    pd.SetPoints(vp)
+    pd.GetPointData().AddArray(arr)
+    return pd
+
+
+# ---- the scene ------------------------------------------------------------------------------
+
+class Scene:
+    """One model: its octree, the LOD pipeline, the full-resolution reference, a window."""
+
+    def __init__(self, name, model, size, level=-1, cloud=False):
+        self.name = name
+        self.size = size
+        self.builder = vtkMultiscaleOctreeBuilder()
+        self.builder.SetInputData(model)
+        self.builder.SetFinestLevel(level)
+        if cloud:
+            self.builder.SetViewpointArrayName('ScannerPosition')
+        self.builder.Update()
+        self.octree = self.builder.GetOutput()
+        self.selector = vtkPerceptualLODSelector()
+        self.selector.SetInputConnection(self.builder.GetOutputPort())
+        self.selector.SetViewportSize(*size)
+        self.selector.SetDiffuseReflectance(0.9)
+        self.selector.SetSpecularReflectance(0.3)
+        self.selector.SetSpecularPower(20)
+        self.patches = vtkMultiscalePatchGenerator()
+        self.patches.SetInputConnection(self.selector.GetOutputPort())
+        if cloud:
+            # a point cloud has no mesh: its reference is the finest cut of its own octree
+            cutter = vtkMultiscaleOctreeCutter()
+            cutter.SetInputConnection(self.builder.GetOutputPort())
+            finest = vtkMultiscalePatchGenerator()
+            finest.SetInputConnection(cutter.GetOutputPort())
+            finest.Update()
+            mesh = vtkPolyData()
+            mesh.DeepCopy(finest.GetOutput())
+        else:
+            normals = vtkPolyDataNormals()
+            normals.SetInputData(model)
+            normals.SplittingOff()
+            normals.Update()
+            mesh = vtkPolyData()
+            mesh.DeepCopy(normals.GetOutput())
+        self.full = mesh
+        b = mesh.GetBounds()
+        self.bounds = b
+        self.centre = np.array([(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2])
+        self.radius = 0.5 * math.sqrt((b[1] - b[0]) ** 2 + (b[3] - b[2]) ** 2 + (b[5] - b[4]) ** 2)
+        self.mapper = vtkPolyDataMapper()
+        self.actor = vtkActor()
+        self.actor.SetMapper(self.mapper)
+        prop = self.actor.GetProperty()
+        prop.SetColor(0.8, 0.8, 0.8)
+        prop.SetDiffuse(0.9)
+        prop.SetSpecular(0.3)
+        prop.SetSpecularPower(20)
+        self.renderer = vtkRenderer()
+        self.renderer.AddActor(self.actor)
+        light = vtkLight()
+        light.SetLightTypeToHeadlight()
+        self.renderer.AddLight(light)
+        self.window = vtkRenderWindow()
+        self.window.SetOffScreenRendering(1)
+        self.window.SetSize(*size)
+        self.window.AddRenderer(self.renderer)
+        self.view_angle = 30.0
+
+    # view: the eye on +z of the centre at `distance`, the object moved by `offset` and turned by
+    # `angle` degrees about the vertical axis (the object's motion, in world coordinates)
+    def set_view(self, distance, offset=(0, 0, 0), angle=0.0):
+        self.actor.SetOrigin(*self.centre)
+        self.actor.SetOrientation(0, angle, 0)
+        self.actor.SetPosition(*offset)
+        camera = self.renderer.GetActiveCamera()
+        camera.SetFocalPoint(*self.centre)
+        camera.SetPosition(self.centre[0], self.centre[1], self.centre[2] + distance)
+        camera.SetViewUp(0, 1, 0)
+        camera.SetViewAngle(self.view_angle)
+        self.renderer.ResetCameraClippingRange(self.bounds_moved(offset))
+        planes = [0.0] * 24
+        camera.GetFrustumPlanes(self.size[0] / self.size[1], planes)
+        s = self.selector
+        s.CoordinatesAreWorldOn()
+        m = self.actor.GetMatrix()
+        s.SetObjectToWorldMatrix([m.GetElement(i // 4, i % 4) for i in range(16)])
+        s.SetEyePosition(camera.GetPosition())
+        s.SetViewAngle(self.view_angle)
+        s.SetFrustumPlanes(planes)
+        d = np.array(camera.GetPosition()) - np.array(camera.GetFocalPoint())
+        d /= np.linalg.norm(d)
+        s.SetNumberOfLights(1)
+        s.SetLight(0, False, *d, 1.0, 1.0)
+        view = camera.GetViewTransformMatrix()
+        from vtkmodules.vtkCommonMath import vtkMatrix4x4
+        ov = vtkMatrix4x4()
+        vtkMatrix4x4.Multiply4x4(view, m, ov)
+        return [ov.GetElement(i // 4, i % 4) for i in range(16)]
+
+    def bounds_moved(self, offset):
+        b = list(self.bounds)
+        r = self.radius
+        c = self.centre + np.array(offset)
+        return [c[0] - r, c[0] + r, c[1] - r, c[1] + r, c[2] - r, c[2] + r]
+
+    def method(self, name, scale=1.0):
+        error, motion, fovea = METHODS[name]
+        s = self.selector
+        getattr(s, 'SetErrorModelTo' + error)()
+        getattr(s, 'SetMotionModelTo' + motion)()
+        if fovea:
+            s.SetFoveationModeToScreen()
+            s.SetFoveationRate(2.0)
+            s.SetGazeDirection(0, 0, -1)
+        else:
+            s.SetFoveationModeToOff()
+        s.SetContourTolerance(scale)
+        s.SetBrightnessTolerance(4 * scale)
+        s.SetDistancePixelThreshold(scale)
+
+    def lod(self):
+        """Select and patch; returns (polydata copy, triangles, select ms, patch ms)."""
+        self.patches.Update()
+        out = vtkPolyData()
+        out.ShallowCopy(self.patches.GetOutput())
+        return (out, self.patches.GetNumberOfTriangles(), self.selector.GetSelectTime() * 1e3,
+                self.patches.GetGenerateTime() * 1e3)
+
+    def render(self, data, actor=None):
+        """Luminance image of `data` (or of `actor`), and the render time in ms."""
+        if actor is not None:
+            self.renderer.RemoveActor(self.actor)
+            self.renderer.AddActor(actor)
+        else:
+            self.mapper.SetInputData(data)
+        t0 = time.perf_counter()
+        self.window.Render()
+        ms = (time.perf_counter() - t0) * 1e3
+        grab = vtkWindowToImageFilter()
+        grab.SetInput(self.window)
+        grab.ReadFrontBufferOff()
+        grab.Update()
+        img = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars())
+        img = metrics.luminance(img.reshape(self.size[1], self.size[0], -1)[..., :3])
+        if actor is not None:
+            self.renderer.RemoveActor(actor)
+            self.renderer.AddActor(self.actor)
+        return img, ms
+
+
+def matched_tolerance(scene, name, target, low=1e-3, high=1e3):
+    """Tolerance scale giving `target` triangles within 2% (bisection in log scale)."""
+    best = None
+    for _ in range(30):
+        mid = math.sqrt(low * high)
+        scene.method(name, mid)
+        data, tris, sel, pat = scene.lod()
+        if best is None or abs(tris - target) < abs(best[1] - target):
+            best = (data, tris, sel, pat, mid)
+        if abs(tris - target) <= 0.02 * target:
+            break
+        if tris > target:
+            low = mid
+        else:
+            high = mid
+    return best
+
+
+def decimated(scene, target):
+    """vtkQuadricDecimation of the full mesh to `target` triangles (done once: static LOD)."""
+    full = scene.full.GetNumberOfPolys()
+    dec = vtkQuadricDecimation()
+    dec.SetInputData(scene.full)
+    dec.SetTargetReduction(max(0.0, min(0.999, 1.0 - target / full)))
+    t0 = time.perf_counter()
+    dec.Update()
+    ms = (time.perf_counter() - t0) * 1e3
+    normals = vtkPolyDataNormals()
+    normals.SetInputConnection(dec.GetOutputPort())
+    normals.SplittingOff()
+    normals.Update()
+    out = vtkPolyData()
+    out.DeepCopy(normals.GetOutput())
+    return out, ms
+
+
+def clustered(scene, target):
+    """vtkQuadricClustering of the full mesh to about `target` triangles (re-run per frame)."""
+    qc = vtkQuadricClustering()
+    qc.SetInputData(scene.full)
+    qc.AutoAdjustNumberOfDivisionsOff()
+    d = max(4, int(math.sqrt(target / 6)))
+    got = 0
+    for _ in range(6):
+        d = min(d, 300)
+        qc.SetNumberOfDivisions(d, d, d)
+        qc.Update()
+        got = qc.GetOutput().GetNumberOfPolys()
+        nd = max(4, int(round(d * math.sqrt(target / max(got, 1)))))
+        if abs(got - target) < 0.05 * target or nd == d or d >= 300:
+            break
+        d = nd
+    t0 = time.perf_counter()
+    qc.Modified()
+    qc.Update()
+    ms = (time.perf_counter() - t0) * 1e3
+    normals = vtkPolyDataNormals()
+    normals.SetInputConnection(qc.GetOutputPort())
+    normals.SplittingOff()
+    normals.Update()
+    out = vtkPolyData()
+    out.DeepCopy(normals.GetOutput())
+    return out, ms
+
+
+# ---- the measurements ---------------------------------------------------------------------------
+
+def still_images(scene, distances, writer):
+    rows = []
+    for dist in distances:
+        scene.set_view(dist)
+        reference, full_ms = scene.render(scene.full)
+        scene.method('SRCC', 1.0)
+        data, target, sel, pat = scene.lod()
+        entries = [('SRCC', data, target, sel, pat, 1.0)]
+        for name in ('SCVC', 'PSEC', 'Foveated', 'Distance'):
+            d, tris, s, p, tol = matched_tolerance(scene, name, target)
+            entries.append((name, d, tris, s, p, tol))
+        if not scene.name.endswith('scans'):
+            d, ms = decimated(scene, target)
+            entries.append(('vtkQuadricDecimation (static)', d, d.GetNumberOfPolys(), 0.0, 0.0, float('nan')))
+            d, ms = clustered(scene, target)
+            entries.append(('vtkQuadricClustering (per frame)', d, d.GetNumberOfPolys(), ms, 0.0, float('nan')))
+        for name, d, tris, s, p, tol in entries:
+            img, rms = scene.render(d)
+            row = dict(model=scene.name, distance=dist, method=name, triangles=tris,
+                       full_triangles=scene.full.GetNumberOfPolys(), tolerance=tol,
+                       select_ms=s, patch_ms=p, render_ms=rms, full_render_ms=full_ms,
+                       psnr=metrics.psnr(reference, img), ssim=metrics.ssim(reference, img))
+            writer.writerow(row)
+            rows.append(row)
+    return rows
+
+
+def frontier(scene, distance, scales, writer):
+    rows = []
+    scene.set_view(distance)
+    reference, full_ms = scene.render(scene.full)
+    for name in ('SRCC', 'SCVC', 'PSEC'):
+        for scale in scales:
+            scene.method(name, scale)
+            data, tris, sel, pat = scene.lod()
+            img, rms = scene.render(data)
+            row = dict(model=scene.name, method=name, scale=scale, triangles=tris,
+                       frame_ms=sel + pat + rms, select_ms=sel, patch_ms=pat, render_ms=rms,
+                       psnr=metrics.psnr(reference, img), ssim=metrics.ssim(reference, img))
+            writer.writerow(row)
+            rows.append(row)
+    rows.append(dict(model=scene.name, method='full', scale=0, triangles=scene.full.GetNumberOfPolys(),
+                     frame_ms=full_ms, select_ms=0, patch_ms=0, render_ms=full_ms, psnr=float('inf'), ssim=1.0))
+    return rows
+
+
+def against_distance(scene, distances, writer):
+    rows = []
+    for name in ('SRCC', 'SCVC', 'PSEC', 'Distance'):
+        scene.method(name, 1.0)
+        for dist in distances:
+            scene.set_view(dist)
+            data, tris, sel, pat = scene.lod()
+            row = dict(model=scene.name, method=name, distance=dist, triangles=tris,
+                       select_ms=sel, patch_ms=pat, visited=scene.selector.GetNumberOfVisitedNodes())
+            writer.writerow(row)
+            rows.append(row)
+    return rows
+
+
+def against_speed(scene, distance, speeds, writer):
+    """Triangles against a steady translation speed (object radii per second, dt = 1/60)."""
+    rows = []
+    for name in ('SRCC', 'TMM', 'IPV', 'DPV'):
+        scene.method(name, 1.0)
+        for v in speeds:
+            step = v * scene.radius / 60.0
+            prev = scene.set_view(distance, offset=(0, 0, 0))
+            cur = scene.set_view(distance, offset=(step, 0, 0))
+            s = scene.selector
+            s.SetObjectToViewMatrix(cur)
+            s.SetPreviousObjectToViewMatrix(prev)
+            s.HasPreviousFrameOn()
+            s.SetPreviousFrameTime(1 / 60)
+            s.SetFrameInterval(1 / 60)
+            data, tris, sel, pat = scene.lod()
+            row = dict(model=scene.name, method=name, speed=v, pixels_per_frame=s.GetObjectSpeed(),
+                       triangles=tris, select_ms=sel, patch_ms=pat)
+            writer.writerow(row)
+            rows.append(row)
+    return rows
+
+
+def movement(scene, kind, t, distance):
+    """The scene at time t (s) for movement T, Z or R: (offset, angle, distance)."""
+    if kind == 'T':
+        return (0.6 * scene.radius * math.sin(2 * math.pi * t / 2.0), 0, 0), 0.0, distance
+    if kind == 'Z':
+        return (0, 0, 0), 0.0, distance * (1.0 - 0.5 * (0.5 - 0.5 * math.cos(2 * math.pi * t / 2.0)))
+    return (0, 0, 0), 90.0 * t, distance
+
+
+def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, speed=None,
+           lod_actor=None):
+    """TMM §5.3 with lag. Returns (mean PSNR, mean frame ms, mean triangles)."""
+    if lod_actor is None:
+        scene.method(name, scale)
+        if speed is not None:
+            if name == 'IPV':
+                scene.selector.SetInverseVelocitySpeed(speed)
+            else:
+                scene.selector.SetDirectVelocitySpeed(speed)
+        scene.selector.SetFrameInterval(dt)
+    horizon = instants * dt
+    shown = None
+    frames = []  # (completion time, image, triangles, processing ms)
+    start = 0.0
+    prev = None
+    prev_time = 0.0
+    while start <= horizon:
+        offset, angle, dist = movement(scene, kind, start, distance)
+        ov = scene.set_view(dist, offset, angle)
+        if lod_actor is not None:
+            lod_actor.SetOrigin(*scene.centre)
+            lod_actor.SetOrientation(0, angle, 0)
+            lod_actor.SetPosition(*offset)
+            img, rms = scene.render(None, actor=lod_actor)
+            work, tris = rms, -1
+        else:
+            s = scene.selector
+            s.SetObjectToViewMatrix(ov)
+            if prev is not None:
+                s.SetPreviousObjectToViewMatrix(prev)
+                s.HasPreviousFrameOn()
+                s.SetPreviousFrameTime(max(prev_time, 1e-4))
+            data, tris, sel, pat = scene.lod()
+            img, rms = scene.render(data)
+            work = sel + pat + rms
+        frames.append((start + work / 1e3, img, tris, work))
+        prev, prev_time = ov, work / 1e3
+        start += work / 1e3
+    values = []
+    for k in range(instants + 1):
+        tk = k * dt
+        done = [f for f in frames if f[0] <= tk]
+        shown = done[-1][1] if done else frames[0][1]
+        values.append(metrics.psnr(references[k], shown))
+    finite = [v for v in values if math.isfinite(v)]
+    return (float(np.mean(finite)) if finite else float('inf'),
+            float(np.mean([f[3] for f in frames])), float(np.mean([f[2] for f in frames])))
+
+
+def moving_protocol(scene, distance, instants, writer, dts=(1 / 30, 1 / 60, 1 / 120)):
+    rows = []
+    for kind in ('T', 'Z', 'R'):
+        for dt in dts:
+            refs = []
+            for k in range(instants + 1):
+                offset, angle, dist = movement(scene, kind, k * dt, distance)
+                scene.set_view(dist, offset, angle)
+                refs.append(scene.render(scene.full)[0])
+            results = {}
+            results['TMM'] = moving(scene, 'TMM', kind, dt, distance, instants, refs)
+            results['SRCC'] = moving(scene, 'SRCC', kind, dt, distance, instants, refs)
+            target = results['TMM'][1]
+            for name in ('IPV', 'DPV'):
+                # calibrate the speed constant so that the mean frame time matches TMM's
+                lo, hi = 0.05, 2000.0
+                best = None
+                for _ in range(8):
+                    mid = math.sqrt(lo * hi)
+                    r = moving(scene, name, kind, dt, distance, instants, refs, speed=mid)
+                    if best is None or abs(r[1] - target) < abs(best[0][1] - target):
+                        best = (r, mid)
+                    if r[1] > target:   # too slow: more reduction, smaller constant
+                        hi = mid
+                    else:
+                        lo = mid
+                results[name] = best[0]
+                results[name + ' constant'] = best[1]
+            # vtkLODActor copies its mappers through API that VTK 9.1 flags as deprecated
+            from vtkmodules.vtkCommonCore import vtkObject
+            vtkObject.GlobalWarningDisplayOff()
+            lod = vtkLODActor()
+            m = vtkPolyDataMapper()
+            m.SetInputData(scene.full)
+            lod.SetMapper(m)
+            lod.GetProperty().DeepCopy(scene.actor.GetProperty())
+            scene.window.SetDesiredUpdateRate(1.0 / dt)
+            results['vtkLODActor'] = moving(scene, 'vtkLODActor', kind, dt, distance, instants, refs,
+                                            lod_actor=lod)
+            scene.window.SetDesiredUpdateRate(0.0001)
+            vtkObject.GlobalWarningDisplayOn()
+            for name in ('TMM', 'IPV', 'DPV', 'SRCC', 'vtkLODActor'):
+                p, ms, tris = results[name]
+                row = dict(model=scene.name, movement=kind, dt=dt, method=name, mean_psnr=p,
+                           mean_frame_ms=ms, mean_triangles=tris,
+                           constant=results.get(name + ' constant', float('nan')))
+                writer.writerow(row)
+                rows.append(row)
+    return rows
+
+
+def zhu(scene, path_levels, writer, steps=8):
+    """PM over distance from d_1 = R / sin(theta/2), for the full model and given meshes."""
+    rows = []
+    d1 = scene.radius / math.sin(math.radians(scene.view_angle) / 2)
+    ppd = metrics.pixels_per_degree(scene.view_angle, scene.size[1])
+    for label, mesh in path_levels:
+        for i in range(steps):
+            dist = d1 * (1.5 ** i)
+            scene.set_view(dist)
+            img, _ = scene.render(mesh)
+            pm, vps, tps = metrics.perceptual_metric(img, 0.0, ppd)
+            row = dict(model=scene.name, mesh=label, triangles=mesh.GetNumberOfPolys(),
+                       distance=dist, distance_over_d1=dist / d1, pm=pm, vps=vps, tps=tps)
+            writer.writerow(row)
+            rows.append(row)
+    return rows
+
+
+# ---- plots and page -------------------------------------------------------------------------------
+
+def plots(out, frontier_rows, distance_rows, speed_rows, zhu_rows):
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    files = []
+    for model in sorted({r['model'] for r in frontier_rows}):
+        fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+        for name in ('SRCC', 'SCVC', 'PSEC'):
+            rs = [r for r in frontier_rows if r['model'] == model and r['method'] == name]
+            axes[0].plot([r['triangles'] for r in rs], [r['psnr'] for r in rs], 'o-', label=name)
+            axes[1].plot([r['frame_ms'] for r in rs], [r['psnr'] for r in rs], 'o-', label=name)
+        axes[0].set_xscale('log')
+        axes[0].set_xlabel('triangles')
+        axes[1].set_xlabel('frame time (select + patch + render), ms')
+        for a in axes:
+            a.set_ylabel('PSNR vs full resolution (dB)')
+            a.grid(True, alpha=0.3)
+            a.legend()
+        fig.suptitle(f'{model}: speed/accuracy frontier')
+        f = f'frontier_{model}.png'
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, f), dpi=90)
+        plt.close(fig)
+        files.append(f)
+    for rows, key, xlabel, tag in ((distance_rows, 'distance', 'viewing distance', 'distance'),
+                                   (speed_rows, 'speed', 'speed (object radii per second)', 'speed')):
+        for model in sorted({r['model'] for r in rows}):
+            fig, ax = plt.subplots(figsize=(6, 4))
+            for name in sorted({r['method'] for r in rows if r['model'] == model}):
+                rs = [r for r in rows if r['model'] == model and r['method'] == name]
+                ax.plot([r[key] for r in rs], [r['triangles'] for r in rs], 'o-', label=name)
+            ax.set_xlabel(xlabel)
+            ax.set_ylabel('triangles')
+            ax.set_yscale('log')
+            ax.grid(True, alpha=0.3)
+            ax.legend()
+            ax.set_title(f'{model}: triangles against {tag}')
+            f = f'triangles_vs_{tag}_{model}.png'
+            fig.tight_layout()
+            fig.savefig(os.path.join(out, f), dpi=90)
+            plt.close(fig)
+            files.append(f)
+    if zhu_rows:
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for label in sorted({r['mesh'] for r in zhu_rows}):
+            rs = [r for r in zhu_rows if r['mesh'] == label]
+            ax.plot([r['distance_over_d1'] for r in rs], [r['pm'] for r in rs], 'o-', label=label)
+        ax.set_xscale('log')
+        ax.set_xlabel('distance / d_1')
+        ax.set_ylabel('PM = VPs / TPs')
+        ax.grid(True, alpha=0.3)
+        ax.legend()
+        ax.set_title("Zhu's perceptual metric over distance")
+        f = 'zhu_pm.png'
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, f), dpi=90)
+        plt.close(fig)
+        files.append(f)
+    return files
+
+
+def table(rows, columns, fmt=None):
+    fmt = fmt or {}
+    lines = ['| ' + ' | '.join(columns) + ' |', '|' + '---|' * len(columns)]
+    for r in rows:
+        cells = []
+        for c in columns:
+            v = r.get(c, '')
+            if isinstance(v, float):
+                v = fmt.get(c, '{:.2f}').format(v)
+            cells.append(str(v))
+        lines.append('| ' + ' | '.join(cells) + ' |')
+    return '\n'.join(lines)
+
+
+def crossings(zhu_rows, levels=(0.5, 0.25, 0.1)):
+    out = []
+    for label in sorted({r['mesh'] for r in zhu_rows}):
+        rs = [r for r in zhu_rows if r['mesh'] == label]
+        for level in levels:
+            d = next((r['distance_over_d1'] for r in rs if r['pm'] < level), float('nan'))
+            out.append(dict(mesh=label, pm_below=level, distance_over_d1=d))
+    return out
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('--out', default='docs/results')
+    parser.add_argument('--data', default=os.path.join(os.path.dirname(__file__), '..', '..', '..', 'shared', 'data'))
+    parser.add_argument('--quick', action='store_true', help='small generated model, few frames')
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    started = time.time()
+
+    scenes = []
+    if args.quick:
+        size = (240, 180)
+        scenes.append(Scene('quick', generated_model(60), size, level=6))
+        instants, dists, scales = 6, [2.5, 5.0], [0.5, 2.0]
+    else:
+        size = (640, 480)
+        if os.path.exists(os.path.join(args.data, 'bun_zipper.ply')):
+            scenes.append(Scene('bunny', read_ply(os.path.join(args.data, 'bun_zipper.ply')), size, level=8))
+            scenes.append(Scene('bunny-scans', bunny_scans(args.data), size, cloud=True))
+        else:
+            print('../shared/data not found: the Stanford models are skipped')
+        scenes.append(Scene('generated1M', generated_model(710), size, level=9))
+        instants, dists, scales = 30, [1.0, 2.0, 4.0], [0.25, 0.5, 1, 2, 4, 8]
+
+    files = {k: open(os.path.join(args.out, k + '.csv'), 'w', newline='') for k in
+             ('still', 'frontier', 'distance', 'speed', 'moving', 'zhu')}
+    fields = {
+        'still': ['model', 'distance', 'method', 'triangles', 'full_triangles', 'tolerance', 'select_ms',
+                  'patch_ms', 'render_ms', 'full_render_ms', 'psnr', 'ssim'],
+        'frontier': ['model', 'method', 'scale', 'triangles', 'frame_ms', 'select_ms', 'patch_ms',
+                     'render_ms', 'psnr', 'ssim'],
+        'distance': ['model', 'method', 'distance', 'triangles', 'select_ms', 'patch_ms', 'visited'],
+        'speed': ['model', 'method', 'speed', 'pixels_per_frame', 'triangles', 'select_ms', 'patch_ms'],
+        'moving': ['model', 'movement', 'dt', 'method', 'mean_psnr', 'mean_frame_ms', 'mean_triangles',
+                   'constant'],
+        'zhu': ['model', 'mesh', 'triangles', 'distance', 'distance_over_d1', 'pm', 'vps', 'tps'],
+    }
+    writers = {k: csv.DictWriter(f, fieldnames=fields[k]) for k, f in files.items()}
+    for w in writers.values():
+        w.writeheader()
+    all_rows = {k: [] for k in files}
+    for scene in scenes:
+        r = scene.radius
+        d1 = r / math.sin(math.radians(scene.view_angle) / 2)
+        print(f'[{time.time() - started:6.0f} s] {scene.name}: {scene.full.GetNumberOfPolys()} triangles, '
+              f'octree {scene.octree.GetNumberOfNodes()} nodes', flush=True)
+        all_rows['still'] += still_images(scene, [d1 * f for f in dists], writers['still'])
+        all_rows['frontier'] += frontier(scene, d1 * dists[0], scales, writers['frontier'])
+        all_rows['distance'] += against_distance(scene, [d1 * (1.5 ** i) for i in range(6 if args.quick else 10)],
+                                                 writers['distance'])
+        all_rows['speed'] += against_speed(scene, d1 * 1.5, [0, 0.5, 1, 2, 4, 8, 16], writers['speed'])
+        print(f'[{time.time() - started:6.0f} s] {scene.name}: moving-image protocol', flush=True)
+        all_rows['moving'] += moving_protocol(scene, d1 * 1.5, instants, writers['moving'],
+                                              dts=(1 / 60,) if args.quick else (1 / 30, 1 / 60, 1 / 120))
+        if scene.name == 'bunny':
+            meshes = [('bun_zipper (full)', scene.full)]
+            for k in (2, 3, 4):
+                p = os.path.join(args.data, f'bun_zipper_res{k}.ply')
+                if os.path.exists(p):
+                    meshes.append((f'bun_zipper_res{k}', read_ply(p)))
+            all_rows['zhu'] += zhu(scene, meshes, writers['zhu'])
+        elif args.quick:
+            all_rows['zhu'] += zhu(scene, [('quick', scene.full)], writers['zhu'], steps=3)
+        for f in files.values():
+            f.flush()
+    for f in files.values():
+        f.close()
+    images = plots(args.out, all_rows['frontier'], all_rows['distance'], all_rows['speed'], all_rows['zhu'])
+    with open(os.path.join(args.out, 'results.md'), 'w') as page:
+        page.write('# Measured results (generated by Testing/Quality/plod_measure.py)\n\n')
+        page.write(f'Run time {time.time() - started:.0f} s; images {size[0]}x{size[1]}, offscreen '
+                   'Mesa llvmpipe. CSV files beside this page hold every figure.\n\n')
+        page.write('## Still images at equal triangle counts\n\n')
+        page.write(table(all_rows['still'], ['model', 'distance', 'method', 'triangles', 'psnr', 'ssim',
+                                             'select_ms', 'patch_ms', 'render_ms'],
+                         {'ssim': '{:.4f}', 'distance': '{:.3g}'}) + '\n\n')
+        page.write('## Moving images (TMM §5.3): mean PSNR with lag\n\n')
+        page.write(table(all_rows['moving'], ['model', 'movement', 'dt', 'method', 'mean_psnr',
+                                              'mean_frame_ms', 'mean_triangles', 'constant'],
+                         {'dt': '{:.4f}', 'mean_triangles': '{:.0f}', 'constant': '{:.3g}'}) + '\n\n')
+        if all_rows['zhu']:
+            page.write("## Zhu's perceptual metric\n\n")
+            page.write(table(crossings(all_rows['zhu']), ['mesh', 'pm_below', 'distance_over_d1']) + '\n\n')
+        page.write('## Plots\n\n')
+        for f in images:
+            page.write(f'![{f}]({f})\n\n')
+    print(f'[{time.time() - started:6.0f} s] wrote {args.out}/results.md, CSV files and {len(images)} plots',
+          flush=True)
+
+
+if __name__ == '__main__':
+    main()
