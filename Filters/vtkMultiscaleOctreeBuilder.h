@@ -16,7 +16,11 @@
  *   present; otherwise they are estimated by PCA over the points within one finest cell edge
  *   and oriented towards the scanner: per point from the array named ViewpointArrayName (3
  *   components, e.g. each scan's scanner position after merging scans), else towards
- *   Viewpoint when UseViewpoint is on, else away from the centroid.
+ *   Viewpoint when UseViewpoint is on, else away from the centroid. The surface of a cloud is
+ *   the one its patches draw, so the cones of a cloud's octree are widened to contain the
+ *   normals of its finest patches' triangles too (then eq. (2) again, upwards): estimated
+ *   normals are smoother than that surface, and the back-face test must not hide what is
+ *   drawn (measured on the merged bunny scans: without it SRCC lost 7 dB to the holes).
  *
  * Algorithm (all in the VTK-free kernel plod::BuildOctree, driven with vtkSMPTools):
  * 1. The root is a cube around the bounds with a margin of 1/32 of the extent on each side

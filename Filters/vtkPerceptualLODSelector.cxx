@@ -96,6 +96,7 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , MotionModel(MOTION_NONE)
   , FoveationMode(FOVEATION_OFF)
   , FoveationRate(2.0)
+  , HideBackFaces(true)
   , ContourTolerance(1.0)
   , BrightnessTolerance(4.0)
   , ViewAngle(30.0)
@@ -276,6 +277,7 @@ int vtkPerceptualLODSelector::RequestData(
   in.Error = static_cast<plod::ErrorModel>(this->ErrorModel);
   in.Motion = static_cast<plod::MotionModel>(this->MotionModel);
   in.Foveation = static_cast<plod::FoveationMode>(this->FoveationMode);
+  in.HideBackFaces = this->HideBackFaces;
   in.ContourTolerance = this->ContourTolerance;
   in.BrightnessTolerance = this->BrightnessTolerance;
   in.UseOctreeMaterial = input->GetHasMaterialArrays();
@@ -466,6 +468,7 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MotionModel: " << motions[this->MotionModel] << "\n";
   os << indent << "FoveationMode: " << foveations[this->FoveationMode] << "\n";
   os << indent << "FoveationRate: " << this->FoveationRate << "\n";
+  os << indent << "HideBackFaces: " << (this->HideBackFaces ? "On" : "Off") << "\n";
   os << indent << "ContourTolerance: " << this->ContourTolerance << " px\n";
   os << indent << "BrightnessTolerance: " << this->BrightnessTolerance << "\n";
   os << indent << "EyePosition: (" << this->EyePosition[0] << ", " << this->EyePosition[1]

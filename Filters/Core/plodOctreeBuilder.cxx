@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "plodOctreeBuilder.h"
 
+#include "plodPatches.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -1681,6 +1683,76 @@ BuildResult BuildOctree(const BuildInput& in, const BuildParameters& params,
       out.ShapeError[node] = dmax >= dmin ? static_cast<float>((dmax - dmin) * h) : 0.0f;
     }
   });
+  if (cloud)
+  {
+    // A point cloud's surface is the one its patches draw: widen the finest cones so that they
+    // contain the normals of the finest patches' triangles (estimated point normals are
+    // smoother than that surface, and the back-face test must not hide what is drawn), then
+    // redo SRCC eq. (2) upwards with the axes unchanged.
+    OctreeView v;
+    v.NumberOfNodes = total;
+    v.FinestLevel = level;
+    v.RootEdge = rootEdge;
+    v.Level = out.Level;
+    v.Parent = out.Parent;
+    v.FirstChild = out.FirstChild;
+    v.ChildMask = out.ChildMask;
+    v.Vertex = out.Vertex;
+    v.ConeAxis = out.ConeAxis;
+    v.ConeAngle = out.ConeAngle;
+    v.ShapeError = out.ShapeError;
+    v.Diffuse = out.Diffuse;
+    v.Specular = out.Specular;
+    v.Edges = out.Edges;
+    std::vector<uint8_t> cut(total);
+    UniformCut(v, level, cut.data());
+    PatchResult patches;
+    GeneratePatches(v, cut.data(), patches);
+    for (size_t t = 0; t + 2 < patches.Triangles.size(); t += 3)
+    {
+      const int64_t node[3] = { patches.PointNode[patches.Triangles[t]],
+        patches.PointNode[patches.Triangles[t + 1]], patches.PointNode[patches.Triangles[t + 2]] };
+      const float* a = &out.Vertex[3 * node[0]];
+      const float* b = &out.Vertex[3 * node[1]];
+      const float* c = &out.Vertex[3 * node[2]];
+      const double u[3] = { double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2] };
+      const double w[3] = { double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2] };
+      double n[3] = { u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+        u[0] * w[1] - u[1] * w[0] };
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (!(len > 0))
+        continue;
+      for (double& x : n)
+        x /= len;
+      for (int64_t k : node)
+      {
+        const double axis[3] = { out.ConeAxis[3 * k], out.ConeAxis[3 * k + 1],
+          out.ConeAxis[3 * k + 2] };
+        out.ConeAngle[k] =
+          std::max(out.ConeAngle[k], static_cast<float>(std::min(Pi, AngleBetween(axis, n))));
+      }
+    }
+    for (int l = level - 1; l >= 0; --l)
+    {
+      for (int64_t node = offset[l]; node < offset[l + 1]; ++node)
+      {
+        if (out.ConeAngle[node] >= static_cast<float>(Pi))
+          continue;
+        const double axis[3] = { out.ConeAxis[3 * node], out.ConeAxis[3 * node + 1],
+          out.ConeAxis[3 * node + 2] };
+        double theta = out.ConeAngle[node];
+        const int count = __builtin_popcount(out.ChildMask[node]);
+        for (int c = 0; c < count; ++c)
+        {
+          const int64_t child = out.FirstChild[node] + c;
+          const double cn[3] = { out.ConeAxis[3 * child], out.ConeAxis[3 * child + 1],
+            out.ConeAxis[3 * child + 2] };
+          theta = std::max(theta, AngleBetween(axis, cn) + double(out.ConeAngle[child]));
+        }
+        out.ConeAngle[node] = static_cast<float>(std::min(theta, Pi));
+      }
+    }
+  }
   report(1.0, "shape error");
   result.Ok = true;
   return result;

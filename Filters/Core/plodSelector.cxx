@@ -406,7 +406,10 @@ void Selector::Select(
     {
       if (cosT > 0 && c < -sinT)
       {
-        hide(n, BackFacing);
+        if (in.HideBackFaces)
+          hide(n, BackFacing);
+        else
+          draw(n, BackFacing); // an open surface: seen from behind, drawn but not refined
         continue;
       }
       if (!(cosT > 0 && c > sinT))

@@ -106,6 +106,9 @@ struct SelectionInput
   /// Perspective: screen distance d_s in pixels. Parallel: pixels per unit length.
   double PixelScale = 1000;
 
+  /// SRCC: back-facing cells are hidden (closed surfaces). Off: they are drawn (not refined),
+  /// for open surfaces such as range scans, whose back faces can be seen.
+  bool HideBackFaces = true;
   double ContourTolerance = 1;    // T_s, pixels
   double BrightnessTolerance = 4; // T_b, brightness x pixels
 

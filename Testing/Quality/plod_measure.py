@@ -152,6 +152,8 @@ class Scene:
         self.octree = self.builder.GetOutput()
         self.selector = vtkPerceptualLODSelector()
         self.selector.SetInputConnection(self.builder.GetOutputPort())
+        if cloud:
+            self.selector.HideBackFacesOff()
         self.selector.SetViewportSize(*size)
         self.selector.SetDiffuseReflectance(0.9)
         self.selector.SetSpecularReflectance(0.3)
