@@ -2,6 +2,7 @@
 // Tests of vtkMultiscaleOctreeBuilder and vtkMultiscaleOctree: exact small cases, invariants over
 // families of random meshes, extremes and bad input, and the Stanford data when present.
 #include "plodOctree.h"
+#include "plodPatches.h"
 #include "plodTestUtilities.h"
 
 #include "vtkCellArray.h"
@@ -15,6 +16,7 @@
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
 #include "vtkStaticCellLocator.h"
+#include "vtkTriangle.h"
 #include "vtkTriangleFilter.h"
 
 #include <gtest/gtest.h>
@@ -850,6 +852,25 @@ TEST(MultiscaleOctreeBuilder, PointCloudNormalsAreEstimatedAndOriented)
     }
     EXPECT_GE(good, 0.98 * total);
     EXPECT_GE(crossed, 0.9 * total) << "signed distance gives crossings around the sphere";
+    // the cones of a cloud's octree contain the normals of its finest patches' triangles
+    std::vector<uint8_t> cut(v.NumberOfNodes);
+    plod::UniformCut(v, v.FinestLevel, cut.data());
+    plod::PatchResult patches;
+    ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), patches));
+    ASSERT_GT(patches.Triangles.size(), 1000u);
+    for (size_t k = 0; k + 2 < patches.Triangles.size(); k += 3)
+    {
+      const int64_t nodes[3] = { patches.PointNode[patches.Triangles[k]],
+        patches.PointNode[patches.Triangles[k + 1]], patches.PointNode[patches.Triangles[k + 2]] };
+      double p[3][3];
+      for (int j = 0; j < 3; ++j)
+        for (int a = 0; a < 3; ++a)
+          p[j][a] = v.Vertex[3 * nodes[j] + a];
+      double n[3];
+      vtkTriangle::ComputeNormal(p[0], p[1], p[2], n);
+      for (int64_t node : nodes)
+        ASSERT_LE(Angle(&v.ConeAxis[3 * node], n), v.ConeAngle[node] + 1e-4) << node;
+    }
   }
 }
 

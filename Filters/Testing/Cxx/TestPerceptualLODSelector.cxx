@@ -176,6 +176,21 @@ TEST(PerceptualLODSelector, ContourClassification)
     plod::AcceptedBrightness);
   EXPECT_EQ(t.RootReason(Viewer(0.5 + 100 * std::sin(g2), 0.5, 0.5 + 100 * std::cos(g2), 1e5)),
     plod::BackFacing);
+  // an open surface (HideBackFaces off): the back-facing root is drawn, not hidden, and still
+  // not refined
+  {
+    auto open = Viewer(0.5, 0.5, -100);
+    open.HideBackFaces = false;
+    plod::Selector sel;
+    sel.SetOctree(t.View());
+    uint8_t state[2] = { 0, 0 }, reason[2] = { 0, 0 };
+    plod::SelectionStats stats;
+    sel.Select(open, state, reason, stats);
+    EXPECT_EQ(state[0], plod::CutDrawn);
+    EXPECT_EQ(reason[0], plod::BackFacing);
+    EXPECT_EQ(state[1], plod::NotInCut);
+    EXPECT_EQ(stats.Drawn, 1);
+  }
   // a cone of angle >= pi/2 is never front- or back-facing
   t.Angle[0] = 2.0f;
   EXPECT_EQ(t.RootReason(Viewer(0.5, 0.5, -100)), plod::AcceptedContour);
