@@ -9,10 +9,15 @@ Choices (documented here because the papers leave them open):
   detail coefficients of level j (j = 1 finest) carry spatial frequency f_j = p / 2^j cycles per
   degree, p being the pixels per degree of the display (from the view angle and image height);
   each level's coefficient magnitudes are weighted by the Mannos-Sakrison contrast sensitivity
-  A(f) = 2.6 (0.0192 + 0.114 f) exp(-(0.114 f)^1.1), normalised to its peak; a pixel is a
-  visible detail pixel (VP) when the weighted magnitude at any level, brought back to the pixel
-  grid, exceeds `threshold` grey levels. TPs are the object's pixels (different from the
-  background). PM = VPs / TPs.
+  A(f) = 2.6 (0.0192 + 0.114 f) exp(-(0.114 f)^1.1), normalised to its peak; the weighted
+  magnitude is divided by the local mean luminance (the level's approximation), which makes it a
+  contrast, as the CSF is defined; a pixel is a visible detail pixel (VP) when that weighted
+  contrast at any level, brought back to the pixel grid, exceeds `threshold` (default 2%, a
+  usual contrast detection threshold). TPs are the object's pixels (different from the
+  background). PM = VPs / TPs. Only coefficients whose whole 2^j block lies inside the object
+  count: the outline against the background is not detail of the surface, and would otherwise
+  mark every pixel of a small object as visible. (A fixed grey-level threshold made every shaded
+  pixel visible at the coarse levels: smooth shading gradients are not detail.)
 """
 import math
 
@@ -67,8 +72,9 @@ def csf(f):
     return raw(np.asarray(f, dtype=np.float64)) / peak
 
 
-def haar_details(image, levels):
-    """Haar decomposition: a list of (level, |LH|+|HL|+|HH| per coefficient) from finest."""
+def haar_details(image, levels, with_mean=False):
+    """Haar decomposition: a list of (level, |LH|+|HL|+|HH| per coefficient) from finest
+    (with the level's approximation as a third item when with_mean)."""
     a = np.asarray(image, dtype=np.float64)
     out = []
     for level in range(1, levels + 1):
@@ -82,12 +88,13 @@ def haar_details(image, levels):
         lh = (p - q + r - s) / 4.0
         hl = (p + q - r - s) / 4.0
         hh = (p - q - r + s) / 4.0
-        out.append((level, np.abs(lh) + np.abs(hl) + np.abs(hh)))
+        detail = np.abs(lh) + np.abs(hl) + np.abs(hh)
+        out.append((level, detail, approx) if with_mean else (level, detail))
         a = approx
     return out
 
 
-def perceptual_metric(image, background, pixels_per_degree, levels=4, threshold=2.0):
+def perceptual_metric(image, background, pixels_per_degree, levels=4, threshold=0.02):
     """Zhu et al.'s PM = VPs / TPs of a luminance image. Returns (pm, vps, tps)."""
     image = np.asarray(image, dtype=np.float64)
     obj = np.abs(image - background) > 0.5
@@ -95,10 +102,16 @@ def perceptual_metric(image, background, pixels_per_degree, levels=4, threshold=
     if tps == 0:
         return 0.0, 0, 0
     visible = np.zeros(image.shape, dtype=bool)
-    for level, detail in haar_details(image, levels):
+    inside = obj.astype(np.float64)
+    for level, detail, mean in haar_details(image, levels, with_mean=True):
         f = pixels_per_degree / 2.0 ** level  # cycles per degree of this level
-        weighted = detail * csf(f)
-        up = np.kron(weighted > threshold, np.ones((2 ** level, 2 ** level), dtype=bool))
+        weighted = detail * csf(f) / np.maximum(mean, 1.0)
+        # blocks wholly inside the object (the mask's Haar approximation equals 1)
+        h, w = (inside.shape[0] // 2) * 2, (inside.shape[1] // 2) * 2
+        inside = inside[:h, :w]
+        inside = (inside[0::2, 0::2] + inside[0::2, 1::2] + inside[1::2, 0::2] + inside[1::2, 1::2]) / 4.0
+        full = inside[:weighted.shape[0], :weighted.shape[1]] >= 1.0
+        up = np.kron((weighted > threshold) & full, np.ones((2 ** level, 2 ** level), dtype=bool))
         h, w = min(up.shape[0], image.shape[0]), min(up.shape[1], image.shape[1])
         visible[:h, :w] |= up[:h, :w]
     vps = int((visible & obj).sum())
