@@ -20,8 +20,8 @@ What it measures (METHOD §4):
    its work started and stays up until the next one is done, its processing time being its
    measured select + patch + render time. At every display instant k dt the shown image is
    compared with the full-resolution image of that instant. IPV and DPV are calibrated (their
-   speed constant, by bisection) so that their mean frame time equals TMM's; vtkLODActor is run
-   with a desired update rate of 1 / dt;
+   speed constant, by bisection) so that their mean frame time equals TMM's; vtkLODActor and
+   vtkQuadricLODActor are run with a desired update rate of 1 / dt;
 5. Zhu's perceptual metric PM = VPs/TPs (plod_metrics.perceptual_metric) over viewing distance
    from d_1 = R / sin(theta/2), for the bunny and Stanford's own bun_zipper_res2..4, and the
    distances at which PM crosses 0.5, 0.25 and 0.1 (where discrete levels would switch).
@@ -47,7 +47,7 @@ from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkIOPLY import vtkPLYReader
 from vtkmodules.vtkRenderingCore import (vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer,
                                          vtkRenderWindow, vtkWindowToImageFilter)
-from vtkmodules.vtkRenderingLOD import vtkLODActor
+from vtkmodules.vtkRenderingLOD import vtkLODActor, vtkQuadricLODActor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plod_metrics as metrics  # noqa: E402
@@ -522,17 +522,17 @@ def moving_protocol(scene, distance, instants, writer, dts=(1 / 30, 1 / 60, 1 / 
             # vtkLODActor copies its mappers through API that VTK 9.1 flags as deprecated
             from vtkmodules.vtkCommonCore import vtkObject
             vtkObject.GlobalWarningDisplayOff()
-            lod = vtkLODActor()
-            m = vtkPolyDataMapper()
-            m.SetInputData(scene.full)
-            lod.SetMapper(m)
-            lod.GetProperty().DeepCopy(scene.actor.GetProperty())
             scene.window.SetDesiredUpdateRate(1.0 / dt)
-            results['vtkLODActor'] = moving(scene, 'vtkLODActor', kind, dt, distance, instants, refs,
-                                            lod_actor=lod)
+            for name, cls in (('vtkLODActor', vtkLODActor), ('vtkQuadricLODActor', vtkQuadricLODActor)):
+                lod = cls()
+                m = vtkPolyDataMapper()
+                m.SetInputData(scene.full)
+                lod.SetMapper(m)
+                lod.GetProperty().DeepCopy(scene.actor.GetProperty())
+                results[name] = moving(scene, name, kind, dt, distance, instants, refs, lod_actor=lod)
             scene.window.SetDesiredUpdateRate(0.0001)
             vtkObject.GlobalWarningDisplayOn()
-            for name in ('TMM', 'IPV', 'DPV', 'SRCC', 'vtkLODActor'):
+            for name in ('TMM', 'IPV', 'DPV', 'SRCC', 'vtkLODActor', 'vtkQuadricLODActor'):
                 p, ms, tris = results[name]
                 row = dict(model=scene.name, movement=kind, dt=dt, method=name, mean_psnr=p,
                            mean_frame_ms=ms, mean_triangles=tris,
