@@ -198,6 +198,11 @@ class Scene:
         self.window.SetOffScreenRendering(1)
         self.window.SetSize(*size)
         self.window.AddRenderer(self.renderer)
+        # VTK 9.1's vtkQuadricLODActor dereferences the window's interactor without a check and
+        # crashes offscreen without one: attach one, never started
+        from vtkmodules.vtkRenderingCore import vtkRenderWindowInteractor
+        self.interactor = vtkRenderWindowInteractor()
+        self.interactor.SetRenderWindow(self.window)
         self.view_angle = 30.0
 
     # view: the eye on +z of the centre at `distance`, the object moved by `offset` and turned by
