@@ -8,6 +8,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh
-./build/bin/PerceptualLODMain | head -20
+./build/bin/PerceptualLODMain
 xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \
   ./build/bin/PerceptualLODViewer --offscreen --out perceptual_lod_output "$@"
