@@ -288,6 +288,7 @@ struct Prepared
   int64_t NumberOfPoints = 0;
   std::vector<double> U;       // 3 per point
   std::vector<uint64_t> Key;   // finest cell of each point, sorted
+  std::vector<int64_t> Source; // the input index of each point (clouds only)
   std::vector<int64_t> Tri;    // 3 per triangle, renumbered, in Morton order of centroids
   std::vector<float> TriNormal; // unit normal per triangle
   std::vector<float> TriWeight; // min(area, 1), 0 for degenerate triangles
@@ -767,6 +768,7 @@ void Prepare(const BuildInput& in, const std::vector<char>& used, const double o
   P.U.resize(3 * np);
   P.Key.resize(np);
   std::vector<int64_t> rank(cloud ? 0 : in.NumberOfPoints, -1);
+  P.Source.resize(cloud ? np : 0);
   pfor(np, 16384, [&](int64_t b, int64_t e) {
     for (int64_t r = b; r < e; ++r)
     {
@@ -776,7 +778,11 @@ void Prepare(const BuildInput& in, const std::vector<char>& used, const double o
         P.U[3 * r + a] = (in.Points[3 * i + a] - origin[a]) / h;
       }
       P.Key[r] = order[r].Key;
-      if (!cloud)
+      if (cloud)
+      {
+        P.Source[r] = i;
+      }
+      else
       {
         rank[i] = r;
       }
@@ -1110,22 +1116,10 @@ BuildResult BuildOctree(const BuildInput& in, const BuildParameters& params,
       std::vector<double> viewpoints;
       if (in.PointViewpoints)
       {
-        // P is in Morton order: recover each point's source index by matching the sort again
-        std::vector<Item> order;
-        order.reserve(in.NumberOfPoints);
-        for (int64_t i = 0; i < in.NumberOfPoints; ++i)
-        {
-          const double* x = in.Points + 3 * i;
-          order.push_back({ MortonEncode(ClampCell((x[0] - origin[0]) / h, cells),
-                              ClampCell((x[1] - origin[1]) / h, cells),
-                              ClampCell((x[2] - origin[2]) / h, cells)),
-            uint64_t(i) });
-        }
-        RadixSort(order, 3 * level, pfor);
         viewpoints.resize(3 * P.NumberOfPoints);
         for (int64_t r = 0; r < P.NumberOfPoints; ++r)
           for (int a = 0; a < 3; ++a)
-            viewpoints[3 * r + a] = (in.PointViewpoints[3 * order[r].Ref + a] - origin[a]) / h;
+            viewpoints[3 * r + a] = (in.PointViewpoints[3 * P.Source[r] + a] - origin[a]) / h;
       }
       double vp[3];
       for (int a = 0; a < 3; ++a)

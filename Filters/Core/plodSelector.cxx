@@ -206,15 +206,9 @@ void Selector::Select(
     ++stats.Drawn;
   };
 
-  // stack entries: node, cell coordinates, brightness-only flag
-  struct Entry
-  {
-    int32_t Node;
-    uint32_t C[3];
-    bool BrightnessOnly;
-  };
-  std::vector<Entry> stack;
-  stack.reserve(256);
+  // the walk's stack is a member: its capacity is kept from frame to frame
+  std::vector<Entry>& stack = this->Stack;
+  stack.clear();
   stack.push_back({ 0, { 0, 0, 0 }, false });
   auto pushChildren = [&](const Entry& e, bool brightnessOnly) {
     const unsigned mask = v.ChildMask[e.Node];

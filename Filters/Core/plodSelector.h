@@ -168,7 +168,15 @@ public:
   void Select(const SelectionInput& in, uint8_t* state, uint8_t* reason, SelectionStats& stats);
 
 private:
+  /// A node to visit: its cell coordinates and whether only brightness is still tested.
+  struct Entry
+  {
+    int32_t Node;
+    uint32_t C[3];
+    bool BrightnessOnly;
+  };
   OctreeView View;
+  std::vector<Entry> Stack;
   std::vector<float> SinTheta, CosTheta;
   std::vector<int32_t> Previous; // nodes of the previous cut
 };

@@ -135,6 +135,17 @@ def bunny_scans(data):
     return pd
 
 
+def smooth(data):
+    """A copy of `data` with smooth point normals (no splitting), like the LOD's cone normals."""
+    normals = vtkPolyDataNormals()
+    normals.SetInputData(data)
+    normals.SplittingOff()
+    normals.Update()
+    out = vtkPolyData()
+    out.DeepCopy(normals.GetOutput())
+    return out
+
+
 # ---- the scene ------------------------------------------------------------------------------
 
 class Scene:
@@ -170,12 +181,7 @@ class Scene:
             mesh = vtkPolyData()
             mesh.DeepCopy(finest.GetOutput())
         else:
-            normals = vtkPolyDataNormals()
-            normals.SetInputData(model)
-            normals.SplittingOff()
-            normals.Update()
-            mesh = vtkPolyData()
-            mesh.DeepCopy(normals.GetOutput())
+            mesh = smooth(model)
         self.full = mesh
         b = mesh.GetBounds()
         self.bounds = b
@@ -237,7 +243,6 @@ class Scene:
         return [ov.GetElement(i // 4, i % 4) for i in range(16)]
 
     def bounds_moved(self, offset):
-        b = list(self.bounds)
         r = self.radius
         c = self.centre + np.array(offset)
         return [c[0] - r, c[0] + r, c[1] - r, c[1] + r, c[2] - r, c[2] + r]
@@ -314,13 +319,7 @@ def decimated(scene, target):
     t0 = time.perf_counter()
     dec.Update()
     ms = (time.perf_counter() - t0) * 1e3
-    normals = vtkPolyDataNormals()
-    normals.SetInputConnection(dec.GetOutputPort())
-    normals.SplittingOff()
-    normals.Update()
-    out = vtkPolyData()
-    out.DeepCopy(normals.GetOutput())
-    return out, ms
+    return smooth(dec.GetOutput()), ms
 
 
 def clustered(scene, target):
@@ -343,13 +342,7 @@ def clustered(scene, target):
     qc.Modified()
     qc.Update()
     ms = (time.perf_counter() - t0) * 1e3
-    normals = vtkPolyDataNormals()
-    normals.SetInputConnection(qc.GetOutputPort())
-    normals.SplittingOff()
-    normals.Update()
-    out = vtkPolyData()
-    out.DeepCopy(normals.GetOutput())
-    return out, ms
+    return smooth(qc.GetOutput()), ms
 
 
 # ---- the measurements ---------------------------------------------------------------------------
@@ -459,7 +452,6 @@ def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, spe
                 scene.selector.SetDirectVelocitySpeed(speed)
         scene.selector.SetFrameInterval(dt)
     horizon = instants * dt
-    shown = None
     frames = []  # (completion time, image, triangles, processing ms)
     start = 0.0
     prev = None
