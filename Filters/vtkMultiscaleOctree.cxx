@@ -1,19 +1,21 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMultiscaleOctree.h"
 
+#include "plodCut.h"
 #include "plodOctree.h"
-#include "plodPatches.h"
 
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
 #include "vtkObjectFactory.h"
-#include "vtkTypeUInt32Array.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <string>
 
@@ -36,6 +38,7 @@ ArrayT* FetchArray(vtkFieldData* fd, const char* name, int comps, vtkIdType n)
 //------------------------------------------------------------------------------
 vtkMultiscaleOctree::vtkMultiscaleOctree()
   : NodeData(vtkFieldData::New())
+  , SurfaceData(vtkFieldData::New())
   , RootEdge(1.0)
   , FinestLevel(0)
   , HasMaterialArrays(false)
@@ -47,6 +50,7 @@ vtkMultiscaleOctree::vtkMultiscaleOctree()
 vtkMultiscaleOctree::~vtkMultiscaleOctree()
 {
   this->NodeData->Delete();
+  this->SurfaceData->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -54,6 +58,7 @@ void vtkMultiscaleOctree::Initialize()
 {
   this->Superclass::Initialize();
   this->NodeData->Initialize();
+  this->SurfaceData->Initialize();
   this->Origin[0] = this->Origin[1] = this->Origin[2] = 0.0;
   this->RootEdge = 1.0;
   this->FinestLevel = 0;
@@ -67,10 +72,16 @@ void vtkMultiscaleOctree::ShallowCopy(vtkDataObject* src)
   if (auto* o = vtkMultiscaleOctree::SafeDownCast(src))
   {
     this->NodeData->ShallowCopy(o->NodeData);
+    this->SurfaceData->ShallowCopy(o->SurfaceData);
     std::copy(o->Origin, o->Origin + 3, this->Origin);
     this->RootEdge = o->RootEdge;
     this->FinestLevel = o->FinestLevel;
     this->HasMaterialArrays = o->HasMaterialArrays;
+    // the same arrays: the source's check holds for the copy
+    this->CheckedKey = o->CheckedKey;
+    this->CheckedValid = o->CheckedValid;
+    this->CheckedResult = o->CheckedResult;
+    this->CheckedWhy = o->CheckedWhy;
   }
   this->Superclass::ShallowCopy(src);
   this->Modified();
@@ -82,6 +93,7 @@ void vtkMultiscaleOctree::DeepCopy(vtkDataObject* src)
   if (auto* o = vtkMultiscaleOctree::SafeDownCast(src))
   {
     this->NodeData->DeepCopy(o->NodeData);
+    this->SurfaceData->DeepCopy(o->SurfaceData);
     std::copy(o->Origin, o->Origin + 3, this->Origin);
     this->RootEdge = o->RootEdge;
     this->FinestLevel = o->FinestLevel;
@@ -94,13 +106,28 @@ void vtkMultiscaleOctree::DeepCopy(vtkDataObject* src)
 //------------------------------------------------------------------------------
 unsigned long vtkMultiscaleOctree::GetActualMemorySize()
 {
-  return this->Superclass::GetActualMemorySize() + this->NodeData->GetActualMemorySize();
+  return this->Superclass::GetActualMemorySize() + this->NodeData->GetActualMemorySize() +
+    this->SurfaceData->GetActualMemorySize();
 }
 
 //------------------------------------------------------------------------------
 vtkIdType vtkMultiscaleOctree::GetNumberOfNodes()
 {
   vtkAbstractArray* a = this->NodeData->GetAbstractArray(LevelArrayName());
+  return a ? a->GetNumberOfTuples() : 0;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkMultiscaleOctree::GetNumberOfSurfacePoints()
+{
+  vtkAbstractArray* a = this->SurfaceData->GetAbstractArray(PointsArrayName());
+  return a ? a->GetNumberOfTuples() : 0;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkMultiscaleOctree::GetNumberOfSurfaceTriangles()
+{
+  vtkAbstractArray* a = this->SurfaceData->GetAbstractArray(TrianglesArrayName());
   return a ? a->GetNumberOfTuples() : 0;
 }
 
@@ -120,33 +147,45 @@ double vtkMultiscaleOctree::GetCellEdge(int level) const
 }
 
 //------------------------------------------------------------------------------
-void vtkMultiscaleOctree::AllocateNodes(vtkIdType n)
+void vtkMultiscaleOctree::Allocate(vtkIdType nodes, vtkIdType points, vtkIdType triangles)
 {
   this->NodeData->Initialize();
-  auto add = [this, n](vtkDataArray* a, const char* name, int comps) {
+  this->SurfaceData->Initialize();
+  auto add = [](vtkFieldData* fd, vtkDataArray* a, const char* name, int comps, vtkIdType n) {
     a->SetName(name);
     a->SetNumberOfComponents(comps);
     a->SetNumberOfTuples(n);
-    this->NodeData->AddArray(a);
+    fd->AddArray(a);
     a->Delete();
   };
-  add(vtkUnsignedCharArray::New(), LevelArrayName(), 1);
-  add(vtkIntArray::New(), ParentArrayName(), 1);
-  add(vtkIntArray::New(), FirstChildArrayName(), 1);
-  add(vtkUnsignedCharArray::New(), ChildMaskArrayName(), 1);
-  add(vtkFloatArray::New(), VertexArrayName(), 3);
-  add(vtkFloatArray::New(), ConeAxisArrayName(), 3);
-  add(vtkFloatArray::New(), ConeAngleArrayName(), 1);
-  add(vtkFloatArray::New(), ShapeErrorArrayName(), 1);
-  add(vtkFloatArray::New(), DiffuseRangeArrayName(), 2);
-  add(vtkFloatArray::New(), SpecularRangeArrayName(), 2);
-  add(vtkTypeUInt32Array::New(), EdgeCrossingsArrayName(), 1);
+  vtkFieldData* fd = this->NodeData;
+  add(fd, vtkUnsignedCharArray::New(), LevelArrayName(), 1, nodes);
+  add(fd, vtkIntArray::New(), ParentArrayName(), 1, nodes);
+  add(fd, vtkIntArray::New(), FirstChildArrayName(), 1, nodes);
+  add(fd, vtkUnsignedCharArray::New(), ChildMaskArrayName(), 1, nodes);
+  add(fd, vtkFloatArray::New(), VertexArrayName(), 3, nodes);
+  add(fd, vtkFloatArray::New(), ConeAxisArrayName(), 3, nodes);
+  add(fd, vtkFloatArray::New(), ConeAngleArrayName(), 1, nodes);
+  add(fd, vtkFloatArray::New(), ShapeErrorArrayName(), 1, nodes);
+  add(fd, vtkFloatArray::New(), DiffuseRangeArrayName(), 2, nodes);
+  add(fd, vtkFloatArray::New(), SpecularRangeArrayName(), 2, nodes);
+  add(fd, vtkUnsignedCharArray::New(), FlagsArrayName(), 1, nodes);
+  add(fd, vtkIntArray::New(), FirstPointArrayName(), 1, nodes);
+  add(fd, vtkIdTypeArray::New(), FirstTriangleArrayName(), 1, nodes);
+  fd = this->SurfaceData;
+  add(fd, vtkFloatArray::New(), PointsArrayName(), 3, points);
+  add(fd, vtkFloatArray::New(), NormalsArrayName(), 3, points);
+  add(fd, vtkIntArray::New(), PointLeafArrayName(), 1, points);
+  add(fd, vtkIdTypeArray::New(), InputPointIdArrayName(), 1, points);
+  add(fd, vtkIntArray::New(), TrianglesArrayName(), 3, triangles);
   this->Modified();
 }
 
 //------------------------------------------------------------------------------
 bool vtkMultiscaleOctree::GetArrays(plod::OctreeArrays& out)
 {
+  static_assert(sizeof(vtkIdType) == sizeof(int64_t), "vtkIdType must be 64-bit");
+  out = plod::OctreeArrays();
   vtkFieldData* fd = this->NodeData;
   const vtkIdType n = this->GetNumberOfNodes();
   auto* level = FetchArray<vtkUnsignedCharArray>(fd, LevelArrayName(), 1, n);
@@ -159,11 +198,21 @@ bool vtkMultiscaleOctree::GetArrays(plod::OctreeArrays& out)
   auto* shape = FetchArray<vtkFloatArray>(fd, ShapeErrorArrayName(), 1, n);
   auto* diffuse = FetchArray<vtkFloatArray>(fd, DiffuseRangeArrayName(), 2, n);
   auto* specular = FetchArray<vtkFloatArray>(fd, SpecularRangeArrayName(), 2, n);
-  auto* edges = FetchArray<vtkTypeUInt32Array>(fd, EdgeCrossingsArrayName(), 1, n);
+  auto* flags = FetchArray<vtkUnsignedCharArray>(fd, FlagsArrayName(), 1, n);
+  auto* firstPoint = FetchArray<vtkIntArray>(fd, FirstPointArrayName(), 1, n);
+  auto* firstTriangle = FetchArray<vtkIdTypeArray>(fd, FirstTriangleArrayName(), 1, n);
+  const vtkIdType np = this->GetNumberOfSurfacePoints();
+  const vtkIdType nt = this->GetNumberOfSurfaceTriangles();
+  fd = this->SurfaceData;
+  auto* points = FetchArray<vtkFloatArray>(fd, PointsArrayName(), 3, np);
+  auto* normals = FetchArray<vtkFloatArray>(fd, NormalsArrayName(), 3, np);
+  auto* leaf = FetchArray<vtkIntArray>(fd, PointLeafArrayName(), 1, np);
+  auto* ids = FetchArray<vtkIdTypeArray>(fd, InputPointIdArrayName(), 1, np);
+  auto* triangles = FetchArray<vtkIntArray>(fd, TrianglesArrayName(), 3, nt);
   if (!level || !parent || !first || !mask || !vertex || !axis || !angle || !shape ||
-    !diffuse || !specular || !edges)
+    !diffuse || !specular || !flags || !firstPoint || !firstTriangle || !points || !normals ||
+    !leaf || !ids || !triangles)
   {
-    out = plod::OctreeArrays();
     return false;
   }
   out.Level = level->GetPointer(0);
@@ -176,7 +225,14 @@ bool vtkMultiscaleOctree::GetArrays(plod::OctreeArrays& out)
   out.ShapeError = shape->GetPointer(0);
   out.Diffuse = diffuse->GetPointer(0);
   out.Specular = specular->GetPointer(0);
-  out.Edges = edges->GetPointer(0);
+  out.Flags = flags->GetPointer(0);
+  out.FirstPoint = firstPoint->GetPointer(0);
+  out.FirstTriangle = reinterpret_cast<int64_t*>(firstTriangle->GetPointer(0));
+  out.Points = points->GetPointer(0);
+  out.Normals = normals->GetPointer(0);
+  out.PointLeaf = leaf->GetPointer(0);
+  out.InputPointId = reinterpret_cast<int64_t*>(ids->GetPointer(0));
+  out.Triangles = triangles->GetPointer(0);
   return true;
 }
 
@@ -204,80 +260,93 @@ bool vtkMultiscaleOctree::GetView(plod::OctreeView& view)
   view.ShapeError = a.ShapeError;
   view.Diffuse = a.Diffuse;
   view.Specular = a.Specular;
-  view.Edges = a.Edges;
+  view.Flags = a.Flags;
+  view.FirstPoint = a.FirstPoint;
+  view.FirstTriangle = a.FirstTriangle;
+  view.NumberOfPoints = this->GetNumberOfSurfacePoints();
+  view.Points = a.Points;
+  view.Normals = a.Normals;
+  view.PointLeaf = a.PointLeaf;
+  view.InputPointId = a.InputPointId;
+  view.NumberOfTriangles = this->GetNumberOfSurfaceTriangles();
+  view.Triangles = a.Triangles;
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultiscaleOctree::CheckKey::operator==(const CheckKey& o) const
+{
+  return this->Level == o.Level && this->Triangles == o.Triangles && this->Nodes == o.Nodes &&
+    this->Points == o.Points && this->TriangleCount == o.TriangleCount && this->Time == o.Time &&
+    this->Finest == o.Finest && this->Origin[0] == o.Origin[0] && this->Origin[1] == o.Origin[1] &&
+    this->Origin[2] == o.Origin[2] && this->Edge == o.Edge;
+}
+
+//------------------------------------------------------------------------------
+vtkMultiscaleOctree::CheckKey vtkMultiscaleOctree::MakeCheckKey()
+{
+  CheckKey k;
+  vtkAbstractArray* level = this->NodeData->GetAbstractArray(LevelArrayName());
+  vtkAbstractArray* tris = this->SurfaceData->GetAbstractArray(TrianglesArrayName());
+  k.Level = level ? level->GetVoidPointer(0) : nullptr;
+  k.Triangles = tris ? tris->GetVoidPointer(0) : nullptr;
+  k.Nodes = this->GetNumberOfNodes();
+  k.Points = this->GetNumberOfSurfacePoints();
+  k.TriangleCount = this->GetNumberOfSurfaceTriangles();
+  k.Finest = this->FinestLevel;
+  std::copy(this->Origin, this->Origin + 3, k.Origin);
+  k.Edge = this->RootEdge;
+  for (vtkFieldData* fd : { this->NodeData, this->SurfaceData })
+  {
+    for (int i = 0; i < fd->GetNumberOfArrays(); ++i)
+    {
+      vtkAbstractArray* a = fd->GetAbstractArray(i);
+      const char* name = a ? a->GetName() : nullptr;
+      if (!a ||
+        (fd == this->NodeData && name &&
+          (!strcmp(name, CutStateArrayName()) || !strcmp(name, CullMaskArrayName()) ||
+            !strcmp(name, "CutReason"))))
+      {
+        continue; // the cut changes every frame; it is checked by the filters that read it
+      }
+      k.Time = std::max(k.Time, a->GetMTime());
+    }
+  }
+  return k;
 }
 
 //------------------------------------------------------------------------------
 bool vtkMultiscaleOctree::CheckConsistency(std::string* why)
 {
-  std::ostringstream msg;
-  plod::OctreeView v;
-  const vtkIdType n = this->GetNumberOfNodes();
-  bool ok = true;
-  if (n == 0)
+  const CheckKey key = this->MakeCheckKey();
+  if (!this->CheckedValid || !(key == this->CheckedKey))
   {
-    ok = true; // an empty octree is valid
-  }
-  else if (!this->GetView(v))
-  {
-    msg << "node arrays missing or of the wrong type/size";
-    ok = false;
-  }
-  else if (!(this->RootEdge > 0) || !std::isfinite(this->RootEdge) || this->FinestLevel < 0 ||
-    this->FinestLevel > plod::MaxFinestLevel)
-  {
-    msg << "invalid root edge or finest level";
-    ok = false;
-  }
-  else if (v.Parent[0] != -1 || v.Level[0] != 0)
-  {
-    msg << "node 0 is not a root";
-    ok = false;
-  }
-  else
-  {
-    for (vtkIdType i = 0; i < n && ok; ++i)
+    std::string text;
+    plod::OctreeView v;
+    bool ok = true;
+    if (this->GetNumberOfNodes() == 0)
     {
-      if (v.Level[i] > this->FinestLevel)
-      {
-        msg << "node " << i << " is below the finest level";
-        ok = false;
-      }
-      else if (i > 0 && (v.Parent[i] < 0 || v.Parent[i] >= i || v.Level[v.Parent[i]] + 1 != v.Level[i]))
-      {
-        msg << "node " << i << " has an invalid parent";
-        ok = false;
-      }
-      else if (v.ChildMask[i] != 0)
-      {
-        const int count = __builtin_popcount(v.ChildMask[i]);
-        if (v.FirstChild[i] <= i || v.FirstChild[i] + count > n)
-        {
-          msg << "node " << i << " has invalid children";
-          ok = false;
-        }
-        for (int c = 0; c < count && ok; ++c)
-        {
-          if (v.Parent[v.FirstChild[i] + c] != i)
-          {
-            msg << "child " << v.FirstChild[i] + c << " does not point back to " << i;
-            ok = false;
-          }
-        }
-      }
-      else if (v.FirstChild[i] != -1)
-      {
-        msg << "leaf " << i << " has a first child";
-        ok = false;
-      }
+      ok = true; // an empty octree is valid
     }
+    else if (!this->GetView(v))
+    {
+      text = "octree arrays missing or of the wrong type or size";
+      ok = false;
+    }
+    else
+    {
+      ok = plod::ValidateOctree(v, &text);
+    }
+    this->CheckedKey = key;
+    this->CheckedValid = true;
+    this->CheckedResult = ok;
+    this->CheckedWhy = text;
   }
   if (why)
   {
-    *why = msg.str();
+    *why = this->CheckedWhy;
   }
-  return ok;
+  return this->CheckedResult;
 }
 
 //------------------------------------------------------------------------------
@@ -286,7 +355,7 @@ bool vtkMultiscaleOctree::HasValidCut()
   plod::OctreeView v;
   auto* cut = FetchArray<vtkUnsignedCharArray>(
     this->NodeData, CutStateArrayName(), 1, this->GetNumberOfNodes());
-  if (!cut || !this->GetView(v))
+  if (!cut || !this->IsConsistent() || !this->GetView(v))
   {
     return false;
   }
@@ -330,7 +399,8 @@ int vtkMultiscaleOctree::GetNumberOfChildren(vtkIdType node)
 vtkIdType vtkMultiscaleOctree::GetChild(vtkIdType node, int childIndex)
 {
   plod::OctreeView v;
-  if (!this->GetView(v) || node < 0 || node >= v.NumberOfNodes || childIndex < 0 ||
+  if (!this->IsConsistent() || !this->GetView(v) || node < 0 || node >= v.NumberOfNodes ||
+    childIndex < 0 ||
     childIndex > 7)
   {
     return -1;
@@ -343,7 +413,7 @@ void vtkMultiscaleOctree::GetNodeCellCoordinates(vtkIdType node, int ijk[3])
 {
   plod::OctreeView v;
   ijk[0] = ijk[1] = ijk[2] = -1;
-  if (this->GetView(v) && node >= 0 && node < v.NumberOfNodes)
+  if (this->IsConsistent() && this->GetView(v) && node >= 0 && node < v.NumberOfNodes)
   {
     v.CellCoordinates(node, ijk);
   }
@@ -388,7 +458,7 @@ void vtkMultiscaleOctree::GetNodeVertex(vtkIdType node, double x[3])
 vtkIdType vtkMultiscaleOctree::FindNode(const double x[3], int level)
 {
   plod::OctreeView v;
-  if (!this->GetView(v) || level < 0 || level > this->FinestLevel)
+  if (!this->IsConsistent() || !this->GetView(v) || level < 0 || level > this->FinestLevel)
   {
     return -1;
   }
@@ -437,6 +507,10 @@ void vtkMultiscaleOctree::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FinestLevel: " << this->FinestLevel << "\n";
   os << indent << "HasMaterialArrays: " << (this->HasMaterialArrays ? "On" : "Off") << "\n";
   os << indent << "NumberOfNodes: " << this->GetNumberOfNodes() << "\n";
+  os << indent << "NumberOfSurfacePoints: " << this->GetNumberOfSurfacePoints() << "\n";
+  os << indent << "NumberOfSurfaceTriangles: " << this->GetNumberOfSurfaceTriangles() << "\n";
   os << indent << "NodeData:\n";
   this->NodeData->PrintSelf(os, indent.GetNextIndent());
+  os << indent << "SurfaceData:\n";
+  this->SurfaceData->PrintSelf(os, indent.GetNextIndent());
 }

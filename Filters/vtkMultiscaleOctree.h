@@ -7,7 +7,14 @@
  * once by vtkMultiscaleOctreeBuilder, read every frame by vtkPerceptualLODSelector and
  * vtkMultiscalePatchGenerator. It follows SRCC §2-3.3 (Wakatsuki et al. 2003) and TMM Table 1:
  * the root is a cube around the input; level `L` cells have edge `GetRootEdge() / 2^L`; only
- * cells that meet the surface exist (sparse).
+ * cells that hold input points exist (sparse); every leaf is at the finest level.
+ *
+ * It is a vertex-clustering hierarchy over the input mesh: each cell stands for the input
+ * points inside it, drawn at its representative vertex `v`; a cut through the tree draws the
+ * input's own triangles with each corner at the representative of its cut cell, and the finest
+ * cut (every leaf opened) draws the input itself. The input's points and triangles are
+ * therefore kept, in GetSurfaceData(). See plodOctree.h and plodOctreeBuilder.h (Filters/Core)
+ * for the construction and the reasons for it.
  *
  * Every per-node quantity is a named array in GetNodeData() with one tuple per node, so that
  * Python users read them as numpy arrays (`vtk.util.numpy_support.vtk_to_numpy`):
@@ -19,24 +26,35 @@
  * | `FirstChild` | int | 1 | first child node (children are contiguous), -1 for a leaf |
  * | `ChildMask` | unsigned char | 1 | bit `c` set when child `c = x + 2y + 4z` exists |
  * | `Vertex` | float | 3 | representative vertex `v`, *relative to GetOrigin()* |
- * | `ConeAxis` | float | 3 | normal cone axis `n` (unit) |
+ * | `ConeAxis` | float | 3 | normal cone axis `n` (unit): the area-weighted mean normal |
  * | `ConeAngle` | float | 1 | normal cone half angle `theta` in radians, in [0, pi] |
- * | `ShapeError` | float | 1 | SRCC eq. (3), world units |
+ * | `ShapeError` | float | 1 | SRCC eq. (3) over the points inside, world units |
  * | `DiffuseRange` | float | 2 | (min, max) diffuse reflectance in the cell |
  * | `SpecularRange` | float | 2 | (min, max) specular reflectance in the cell |
- * | `EdgeCrossings` | unsigned int | 1 | `F_e(i)`: bit i (0..11) edge i crossed; bit 12+i the crossing is oriented towards -axis |
+ * | `Flags` | unsigned char | 1 | bit 0: the cell's sub-mesh is a union of discs (topologically safe to collapse) |
+ * | `FirstPoint` | int | 1 | the cell's points are [FirstPoint, next node of the level's FirstPoint) |
+ * | `FirstTriangle` | vtkIdType | 1 | the triangles the node owns (those that collapse when it is accepted) start here |
  *
- * That is 62 bytes per node. Nodes are stored level by level and, inside a level, in Morton
- * order. Edge `i = 4a + pbit + 2qbit` runs along axis `a`; `(p, q)` are the two other axes in
- * cyclic order ((y,z) for x, (z,x) for y, (x,y) for z) and `pbit`/`qbit` say on which side of
- * the cell it lies. A coarse edge's crossing is the signed sum of the crossings of the finer
- * edges it is made of, so a cell and its children always agree.
+ * That is 71 bytes per node. Nodes are stored level by level and, inside a level, in Morton
+ * order. The surface arrays, in GetSurfaceData():
  *
- * Vertices are stored in single precision relative to the root origin, which is kept in double:
- * a model far from the world origin keeps full precision. GetNodeVertex() returns world
- * coordinates.
+ * | name | type | comps | meaning |
+ * | --- | --- | --- | --- |
+ * | `Points` | float | 3 | input points used by a triangle, in Morton order, relative to GetOrigin() |
+ * | `Normals` | float | 3 | their unit shading normals (the input's, or computed as vtkPolyDataNormals does without splitting) |
+ * | `PointLeaf` | int | 1 | the leaf holding each point |
+ * | `InputPointId` | vtkIdType | 1 | each point's index in the builder's input (-1 for points contoured from a cloud) |
+ * | `Triangles` | int | 3 | point indices, oriented as in the input, sorted by owner node |
  *
- * @warning Node indices are 32-bit: an octree holds at most 2^31 - 1 nodes.
+ * Vertices and points are stored in single precision relative to the root origin, which is
+ * kept in double: a model far from the world origin keeps full precision. GetNodeVertex()
+ * returns world coordinates.
+ *
+ * Filters validate an octree that reaches them (IsConsistent, linear in its size) once per
+ * modification time: after editing its arrays in place (from numpy, say) call Modified() on
+ * the octree so that the next filter checks it again.
+ *
+ * @warning Node, point and triangle indices are 32-bit: at most 2^31 - 1 of each.
  *
  * @sa vtkMultiscaleOctreeBuilder vtkMultiscaleOctreeAlgorithm
  */
@@ -83,14 +101,23 @@ public:
   void DeepCopy(vtkDataObject* src) override;
   ///@}
 
-  /// Memory used by the node arrays, in kibibytes (VTK convention).
+  /// Memory used by the node and surface arrays, in kibibytes (VTK convention).
   unsigned long GetActualMemorySize() override;
 
   /// The per-node arrays (see the class documentation for the names).
   vtkFieldData* GetNodeData() { return this->NodeData; }
 
+  /// The surface arrays: points, normals, point leaves, input ids, triangles.
+  vtkFieldData* GetSurfaceData() { return this->SurfaceData; }
+
   /// Number of nodes (0 when empty).
   vtkIdType GetNumberOfNodes();
+
+  ///@{
+  /// Number of surface points and triangles (the input's, as kept by the builder).
+  vtkIdType GetNumberOfSurfacePoints();
+  vtkIdType GetNumberOfSurfaceTriangles();
+  ///@}
 
   ///@{
   /// Root cube: lower corner in world coordinates and edge length. Default: (0,0,0) and 1.
@@ -113,10 +140,11 @@ public:
   double GetCellEdge(int level) const;
 
   /**
-   * Creates the node arrays for `n` nodes (contents undefined) and removes any other node
-   * array. Used by the builder; users normally never call it.
+   * Creates the node arrays for `nodes` nodes and the surface arrays for `points` points and
+   * `triangles` triangles (contents undefined), removing any other array. Used by the builder
+   * and by readers; users normally never call it.
    */
-  void AllocateNodes(vtkIdType n);
+  void Allocate(vtkIdType nodes, vtkIdType points, vtkIdType triangles);
 
   ///@{
   /// Navigation. Invalid node ids give -1 (or 0 children).
@@ -139,8 +167,11 @@ public:
   ///@}
 
   /**
-   * Checks that the node arrays exist with the documented types and sizes and that the tree
-   * structure is consistent (parents, children, levels). An empty octree is consistent.
+   * Checks that the arrays exist with the documented types and sizes and that everything the
+   * filters rely on holds (plod::ValidateOctree: parents, children, levels, point and triangle
+   * ranges, point leaves, triangle corners, finite vertices, cone angles). Linear in the size;
+   * the result is cached until the octree or one of its arrays is modified. An empty octree
+   * is consistent.
    */
   bool IsConsistent() { return this->CheckConsistency(nullptr); }
 
@@ -156,23 +187,37 @@ public:
   static const char* ShapeErrorArrayName() { return "ShapeError"; }
   static const char* DiffuseRangeArrayName() { return "DiffuseRange"; }
   static const char* SpecularRangeArrayName() { return "SpecularRange"; }
-  static const char* EdgeCrossingsArrayName() { return "EdgeCrossings"; }
+  static const char* FlagsArrayName() { return "Flags"; }
+  static const char* FirstPointArrayName() { return "FirstPoint"; }
+  static const char* FirstTriangleArrayName() { return "FirstTriangle"; }
+  static const char* PointsArrayName() { return "Points"; }
+  static const char* NormalsArrayName() { return "Normals"; }
+  static const char* PointLeafArrayName() { return "PointLeaf"; }
+  static const char* InputPointIdArrayName() { return "InputPointId"; }
+  static const char* TrianglesArrayName() { return "Triangles"; }
   ///@}
+
+  /// Bit of the Flags array: the cell's sub-mesh is a union of discs.
+  static int GetTopologySafeFlag() { return 1; }
 
   ///@{
   /**
    * The cut travels with the octree as the unsigned char node array "CutState": 0 not in the
-   * cut, 1 in the cut and drawn, 2 in the cut but not drawn (culled or back-facing). A valid cut
-   * gives every finest cell exactly one ancestor-or-self in the cut.
-   * vtkMultiscaleOctreeCutter and vtkPerceptualLODSelector make it, vtkMultiscalePatchGenerator
-   * reads it.
+   * cut, 1 in the cut and drawn at its representative vertex, 2 in the cut but not drawn
+   * (culled or back-facing), 3 a leaf opened: drawn at full resolution, its own points and
+   * triangles. A valid cut gives every leaf exactly one ancestor-or-self in the cut; only
+   * leaves are opened. vtkMultiscaleOctreeCutter and vtkPerceptualLODSelector make it,
+   * vtkMultiscalePatchGenerator reads it. The selector also writes "CullMask": for each culled
+   * cell, the frustum planes (bit i: plane i) its cell lies wholly outside.
    */
   static const char* CutStateArrayName() { return "CutState"; }
+  static const char* CullMaskArrayName() { return "CullMask"; }
   enum CutStates
   {
     NOT_IN_CUT = 0,
     CUT_DRAWN = 1,
-    CUT_HIDDEN = 2
+    CUT_HIDDEN = 2,
+    CUT_OPEN = 3
   };
   /// True when a CutState array exists and forms a valid cut.
   bool HasValidCut();
@@ -190,7 +235,7 @@ public:
    * missing or malformed (then `view` is left empty).
    */
   bool GetView(plod::OctreeView& view);
-  /// Writable pointers to the arrays made by AllocateNodes().
+  /// Writable pointers to the arrays made by Allocate().
   bool GetArrays(plod::OctreeArrays& arrays);
   /// IsConsistent(), telling what is wrong in `why`.
   bool CheckConsistency(std::string* why);
@@ -201,10 +246,29 @@ protected:
   ~vtkMultiscaleOctree() override;
 
   vtkFieldData* NodeData;
+  vtkFieldData* SurfaceData;
   double Origin[3];
   double RootEdge;
   int FinestLevel;
   bool HasMaterialArrays;
+  // IsConsistent's cache: the identity and modification times of the arrays it checked (not of
+  // the cut arrays, which change every frame), copied by ShallowCopy with the arrays it covers
+  struct CheckKey
+  {
+    const void* Level = nullptr;
+    const void* Triangles = nullptr;
+    vtkIdType Nodes = -1, Points = -1, TriangleCount = -1;
+    vtkMTimeType Time = 0;
+    int Finest = -1;
+    double Origin[3] = { 0, 0, 0 };
+    double Edge = 0;
+    bool operator==(const CheckKey& o) const;
+  };
+  CheckKey MakeCheckKey();
+  CheckKey CheckedKey;
+  bool CheckedValid = false;
+  bool CheckedResult = false;
+  std::string CheckedWhy;
 
 private:
   vtkMultiscaleOctree(const vtkMultiscaleOctree&) = delete;

@@ -20,6 +20,8 @@
 #include "vtkSmartPointer.h"
 #include "vtkTimerLog.h"
 
+#include <vtksys/SystemInformation.hxx>
+
 #include <cmath>
 #include <vector>
 
@@ -84,17 +86,19 @@ bool FetchValues(vtkDataArray* a, std::vector<float>& out)
 //------------------------------------------------------------------------------
 vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
   : FinestLevel(-1)
-  , VertexRule(VERTEX_MEAN)
+  , VertexRule(VERTEX_QEF)
   , DiffuseArrayName(nullptr)
   , SpecularArrayName(nullptr)
   , UniformDiffuse(1.0)
   , UniformSpecular(0.0)
   , ViewpointArrayName(nullptr)
   , UseViewpoint(false)
-  , MemoryLimit(4096.0)
+  , MemoryLimit(0.0)
   , MultiThreaded(true)
-  , NumberOfCrossings(0)
   , NumberOfSkippedTriangles(0)
+  , NumberOfInvalidTriangles(0)
+  , NumberOfDegenerateTriangles(0)
+  , NumberOfUnsafeNodes(0)
   , NumberOfInputTriangles(0)
   , BuildTime(0.0)
 {
@@ -123,6 +127,18 @@ int vtkMultiscaleOctreeBuilder::FillInputPortInformation(int, vtkInformation* in
 }
 
 //------------------------------------------------------------------------------
+double vtkMultiscaleOctreeBuilder::GetEffectiveMemoryLimit()
+{
+  if (this->MemoryLimit > 0)
+  {
+    return this->MemoryLimit;
+  }
+  vtksys::SystemInformation info;
+  const double total = static_cast<double>(info.GetTotalPhysicalMemory()); // MiB
+  return total > 0 ? 0.75 * total : 4096.0;
+}
+
+//------------------------------------------------------------------------------
 int vtkMultiscaleOctreeBuilder::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -134,9 +150,12 @@ int vtkMultiscaleOctreeBuilder::RequestData(
     return 0;
   }
   output->Initialize();
-  this->NumberOfCrossings = 0;
   this->NumberOfSkippedTriangles = 0;
+  this->NumberOfInvalidTriangles = 0;
+  this->NumberOfDegenerateTriangles = 0;
   this->NumberOfInputTriangles = 0;
+  this->NumberOfUnsafeNodes = 0;
+  this->FinestLevelReason.clear();
   this->BuildTime = 0.0;
 
   // parameters
@@ -146,9 +165,10 @@ int vtkMultiscaleOctreeBuilder::RequestData(
                                  << plod::MaxFinestLevel << "] (-1 chooses it from the input).");
     return 0;
   }
-  if (!(this->MemoryLimit > 0) || !std::isfinite(this->MemoryLimit))
+  if (!(this->MemoryLimit >= 0) || !std::isfinite(this->MemoryLimit))
   {
-    vtkErrorMacro("MemoryLimit must be a positive number of MiB, not " << this->MemoryLimit);
+    vtkErrorMacro("MemoryLimit must be a non-negative number of MiB (0: automatic), not "
+      << this->MemoryLimit);
     return 0;
   }
   if (!std::isfinite(this->UniformDiffuse) || !std::isfinite(this->UniformSpecular))
@@ -166,65 +186,113 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   timer->StartTimer();
   plod::BuildInput in;
   const vtkIdType np = input->GetNumberOfPoints();
-  std::vector<double> points(3 * np);
+  in.NumberOfPoints = np;
+  // points: used in place when they are float or double triples
+  std::vector<double> pointCopy;
   {
     vtkDataArray* pts = input->GetPoints()->GetData();
-    if (pts->GetDataType() == VTK_DOUBLE && pts->GetNumberOfComponents() == 3)
+    if (pts->GetNumberOfComponents() == 3 && pts->GetDataType() == VTK_DOUBLE)
     {
-      const double* src = static_cast<const double*>(pts->GetVoidPointer(0));
-      std::copy(src, src + 3 * np, points.begin());
+      in.Points = static_cast<const double*>(pts->GetVoidPointer(0));
+    }
+    else if (pts->GetNumberOfComponents() == 3 && pts->GetDataType() == VTK_FLOAT)
+    {
+      in.PointsFloat = static_cast<const float*>(pts->GetVoidPointer(0));
     }
     else
     {
+      pointCopy.resize(3 * np);
       for (vtkIdType i = 0; i < np; ++i)
       {
-        pts->GetTuple(i, &points[3 * i]);
+        pts->GetTuple(i, &pointCopy[3 * i]);
       }
+      in.Points = pointCopy.data();
     }
   }
-  in.NumberOfPoints = np;
-  in.Points = points.data();
 
+  // triangles: a triangle-only polygon array is used in place; other polygons and strips are
+  // split into triangles
   std::vector<int64_t> tris;
-  std::vector<vtkIdType> cellOf;
+  std::vector<vtkIdType> cellOf; // cell id of each triangle, for cell-data material
+  vtkIdType firstPolyCell = 0;
+  bool inPlace = false;
   if (vtkPolyData* pd = vtkPolyData::SafeDownCast(input))
   {
-    CollectTriangles(pd, tris, cellOf);
+    firstPolyCell = pd->GetNumberOfVerts() + pd->GetNumberOfLines();
+    vtkCellArray* polys = pd->GetPolys();
+    if (pd->GetNumberOfStrips() == 0 && polys->GetNumberOfCells() > 0 &&
+      polys->IsHomogeneous() == 3)
+    {
+      inPlace = true;
+      in.NumberOfTriangles = polys->GetNumberOfCells();
+      if (polys->IsStorage64Bit())
+      {
+        in.Triangles = reinterpret_cast<const int64_t*>(
+          polys->GetConnectivityArray64()->GetPointer(0));
+      }
+      else
+      {
+        in.Triangles32 = reinterpret_cast<const int32_t*>(
+          polys->GetConnectivityArray32()->GetPointer(0));
+      }
+    }
+    else
+    {
+      CollectTriangles(pd, tris, cellOf);
+      in.NumberOfTriangles = static_cast<int64_t>(tris.size() / 3);
+      in.Triangles = tris.empty() ? nullptr : tris.data();
+    }
   }
-  in.NumberOfTriangles = static_cast<int64_t>(tris.size() / 3);
-  in.Triangles = tris.empty() ? nullptr : tris.data();
   this->NumberOfInputTriangles = in.NumberOfTriangles;
   const bool cloud = in.NumberOfTriangles == 0;
+  auto cellOfTriangle = [&](vtkIdType t) { return inPlace ? firstPolyCell + t : cellOf[t]; };
 
-  // normals and orientation (clouds only)
+  // every array is checked against what it describes before the kernel reads it
+  auto lengthError = [this](const char* what, const char* name, vtkIdType has, int comps,
+                       vtkIdType needs, const char* per) {
+    vtkErrorMacro(<< what << " array '" << (name ? name : "") << "' has " << has << " tuple(s) of "
+                  << comps << " component(s); it needs " << needs << " (one per " << per
+                  << "). Empty octree.");
+  };
+
+  // normals: a mesh's shading normals, or a cloud's orientation
   std::vector<float> normals;
+  if (vtkDataArray* n = input->GetPointData()->GetNormals())
+  {
+    if (n->GetNumberOfComponents() != 3 || n->GetNumberOfTuples() != np)
+    {
+      lengthError("Normals", n->GetName(), n->GetNumberOfTuples(), n->GetNumberOfComponents(),
+        np, "point");
+      return 1;
+    }
+    normals.resize(3 * np);
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      double t[3];
+      n->GetTuple(i, t);
+      for (int a = 0; a < 3; ++a)
+      {
+        normals[3 * i + a] = static_cast<float>(t[a]);
+      }
+    }
+    in.PointNormals = normals.data();
+  }
   std::vector<double> viewpoints;
   if (cloud)
   {
-    if (vtkDataArray* n = input->GetPointData()->GetNormals())
-    {
-      if (n->GetNumberOfComponents() == 3)
-      {
-        normals.resize(3 * np);
-        for (vtkIdType i = 0; i < np; ++i)
-        {
-          double t[3];
-          n->GetTuple(i, t);
-          for (int a = 0; a < 3; ++a)
-          {
-            normals[3 * i + a] = static_cast<float>(t[a]);
-          }
-        }
-        in.PointNormals = normals.data();
-      }
-    }
     if (this->ViewpointArrayName)
     {
       vtkDataArray* v = input->GetPointData()->GetArray(this->ViewpointArrayName);
-      if (!v || v->GetNumberOfComponents() != 3)
+      if (!v)
       {
         vtkWarningMacro("Viewpoint array '" << this->ViewpointArrayName
-                                            << "' missing or not 3-component: ignored.");
+                                            << "' not found: normals oriented without it.");
+      }
+      else if (v->GetNumberOfComponents() != 3 || v->GetNumberOfTuples() != np)
+      {
+        lengthError("Viewpoint", this->ViewpointArrayName, v->GetNumberOfTuples(),
+          v->GetNumberOfComponents(), np, "point");
+        return 1;
       }
       else
       {
@@ -241,27 +309,47 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   }
 
   // material
-  std::vector<float> pointDiffuse, pointSpecular, cellDiffuse, cellSpecular, triDiffuse,
-    triSpecular;
+  std::vector<float> pointDiffuse, pointSpecular, triDiffuse, triSpecular;
   bool hasMaterial = false;
+  bool bad = false;
   auto material = [&](const char* name, std::vector<float>& pointValues,
-                    std::vector<float>& cellValues, std::vector<float>& triValues,
-                    const float*& pointOut, const float*& triOut) {
-    if (!name)
+                    std::vector<float>& triValues, const float*& pointOut,
+                    const float*& triOut) {
+    if (!name || bad)
     {
       return;
     }
-    if (FetchValues(input->GetPointData()->GetArray(name), pointValues))
+    if (vtkDataArray* a = input->GetPointData()->GetArray(name))
     {
+      if (a->GetNumberOfTuples() != np || a->GetNumberOfComponents() < 1)
+      {
+        lengthError("Point material", name, a->GetNumberOfTuples(), a->GetNumberOfComponents(),
+          np, "point");
+        bad = true;
+        return;
+      }
+      pointValues.resize(np);
+      for (vtkIdType i = 0; i < np; ++i)
+      {
+        pointValues[i] = static_cast<float>(a->GetComponent(i, 0));
+      }
       pointOut = pointValues.data();
       hasMaterial = true;
     }
-    else if (!cloud && FetchValues(input->GetCellData()->GetArray(name), cellValues))
+    else if (vtkDataArray* c = cloud ? nullptr : input->GetCellData()->GetArray(name))
     {
-      triValues.resize(cellOf.size());
-      for (size_t t = 0; t < cellOf.size(); ++t)
+      const vtkIdType cells = input->GetNumberOfCells();
+      if (c->GetNumberOfTuples() != cells || c->GetNumberOfComponents() < 1)
       {
-        triValues[t] = cellValues[cellOf[t]];
+        lengthError(
+          "Cell material", name, c->GetNumberOfTuples(), c->GetNumberOfComponents(), cells, "cell");
+        bad = true;
+        return;
+      }
+      triValues.resize(in.NumberOfTriangles);
+      for (vtkIdType t = 0; t < in.NumberOfTriangles; ++t)
+      {
+        triValues[t] = static_cast<float>(c->GetComponent(cellOfTriangle(t), 0));
       }
       triOut = triValues.data();
       hasMaterial = true;
@@ -271,17 +359,20 @@ int vtkMultiscaleOctreeBuilder::RequestData(
       vtkWarningMacro("Material array '" << name << "' not found: uniform value used.");
     }
   };
-  material(this->DiffuseArrayName, pointDiffuse, cellDiffuse, triDiffuse, in.PointDiffuse,
-    in.TriangleDiffuse);
-  material(this->SpecularArrayName, pointSpecular, cellSpecular, triSpecular, in.PointSpecular,
-    in.TriangleSpecular);
+  material(this->DiffuseArrayName, pointDiffuse, triDiffuse, in.PointDiffuse, in.TriangleDiffuse);
+  material(
+    this->SpecularArrayName, pointSpecular, triSpecular, in.PointSpecular, in.TriangleSpecular);
+  if (bad)
+  {
+    return 1;
+  }
   in.UniformDiffuse = static_cast<float>(this->UniformDiffuse);
   in.UniformSpecular = static_cast<float>(this->UniformSpecular);
 
   plod::BuildParameters params;
   params.FinestLevel = this->FinestLevel;
   params.Rule = this->VertexRule == VERTEX_QEF ? plod::VertexRule::QEF : plod::VertexRule::Mean;
-  params.MemoryLimit = this->MemoryLimit * 1024.0 * 1024.0;
+  params.MemoryLimit = this->GetEffectiveMemoryLimit() * 1024.0 * 1024.0;
 
   plod::ParallelFor pfor = plod::SerialFor;
   if (this->MultiThreaded)
@@ -295,8 +386,9 @@ int vtkMultiscaleOctreeBuilder::RequestData(
     this->UpdateProgress(f);
     return !this->GetAbortExecute();
   };
-  auto allocate = [output](int64_t n) {
-    output->AllocateNodes(static_cast<vtkIdType>(n));
+  auto allocate = [output](int64_t nodes, int64_t points, int64_t triangles) {
+    output->Allocate(static_cast<vtkIdType>(nodes), static_cast<vtkIdType>(points),
+      static_cast<vtkIdType>(triangles));
     plod::OctreeArrays arrays;
     output->GetArrays(arrays);
     return arrays;
@@ -305,8 +397,16 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   const plod::BuildResult result = plod::BuildOctree(in, params, allocate, pfor, progress);
   timer->StopTimer();
   this->BuildTime = timer->GetElapsedTime();
-  this->NumberOfCrossings = result.NumberOfCrossings;
-  this->NumberOfSkippedTriangles = result.NumberOfSkippedTriangles;
+  this->NumberOfInvalidTriangles = result.NumberOfInvalidTriangles;
+  this->NumberOfDegenerateTriangles = result.NumberOfDegenerateTriangles;
+  this->NumberOfSkippedTriangles =
+    result.NumberOfInvalidTriangles + result.NumberOfDegenerateTriangles;
+  this->NumberOfUnsafeNodes = result.NumberOfUnsafeNodes;
+  this->FinestLevelReason = result.LevelReason;
+  for (const std::string& w : result.Warnings)
+  {
+    vtkWarningMacro(<< w << ".");
+  }
   if (!result.Ok)
   {
     output->Initialize();
@@ -315,7 +415,7 @@ int vtkMultiscaleOctreeBuilder::RequestData(
       vtkWarningMacro("Build aborted: empty octree.");
       return 1;
     }
-    vtkErrorMacro("Cannot build the octree: " << result.Error << ".");
+    vtkErrorMacro("Cannot build the octree: " << result.Error << ". Empty octree.");
     return 1;
   }
   output->SetGeometry(result.Origin, result.RootEdge, result.FinestLevel);
@@ -342,10 +442,14 @@ void vtkMultiscaleOctreeBuilder::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Viewpoint: (" << this->Viewpoint[0] << ", " << this->Viewpoint[1] << ", "
      << this->Viewpoint[2] << ")\n";
   os << indent << "UseViewpoint: " << (this->UseViewpoint ? "On" : "Off") << "\n";
-  os << indent << "MemoryLimit: " << this->MemoryLimit << " MiB\n";
+  os << indent << "MemoryLimit: " << this->MemoryLimit << " MiB (0: automatic, now "
+     << this->GetEffectiveMemoryLimit() << " MiB)\n";
   os << indent << "MultiThreaded: " << (this->MultiThreaded ? "On" : "Off") << "\n";
   os << indent << "NumberOfInputTriangles: " << this->NumberOfInputTriangles << "\n";
-  os << indent << "NumberOfCrossings: " << this->NumberOfCrossings << "\n";
   os << indent << "NumberOfSkippedTriangles: " << this->NumberOfSkippedTriangles << "\n";
+  os << indent << "NumberOfInvalidTriangles: " << this->NumberOfInvalidTriangles << "\n";
+  os << indent << "NumberOfDegenerateTriangles: " << this->NumberOfDegenerateTriangles << "\n";
+  os << indent << "NumberOfUnsafeNodes: " << this->NumberOfUnsafeNodes << "\n";
+  os << indent << "FinestLevelReason: " << this->FinestLevelReason << "\n";
   os << indent << "BuildTime: " << this->BuildTime << " s\n";
 }

@@ -5,49 +5,56 @@
  *
  * The expensive, run-once step of PerceptualLOD: it turns its input into a vtkMultiscaleOctree
  * whose cells carry a representative vertex, a normal cone, a shape error, material bounds and
- * edge-crossing data (SRCC §2-3.3, Wakatsuki et al. 2003; TMM Table 1; Wang & Sato §3 for point
- * data). It re-executes only when its input or one of its parameters changes.
+ * a topology flag (SRCC §2-3.3, Wakatsuki et al. 2003; TMM Table 1; Wang & Sato §3 for point
+ * data), and which keeps the input's own triangles so that the finest cut is the input. It
+ * re-executes only when its input or one of its parameters changes.
  *
  * Input (a vtkPointSet, usually vtkPolyData):
  * - a mesh: the polygons and triangle strips of a vtkPolyData. Quads and polygons are split
  *   into fans, strips into their triangles; vertices and lines are ignored. Only points used by
- *   a triangle count.
+ *   a triangle count. A polygon array holding only triangles is read in place (no copy), as are
+ *   float or double points. Point normals, when present, are the shading normals of the finest
+ *   cut; otherwise they are computed as vtkPolyDataNormals does without splitting.
  * - a point cloud: any vtkPointSet without polygons or strips. Point normals are used when
  *   present; otherwise they are estimated by PCA over the points within one finest cell edge
  *   and oriented towards the scanner: per point from the array named ViewpointArrayName (3
  *   components, e.g. each scan's scanner position after merging scans), else towards
- *   Viewpoint when UseViewpoint is on, else away from the centroid. The surface of a cloud is
- *   the one its patches draw, so the cones of a cloud's octree are widened to contain the
- *   normals of its finest patches' triangles too (then eq. (2) again, upwards): estimated
- *   normals are smoother than that surface, and the back-face test must not hide what is
- *   drawn (measured on the merged bunny scans: without it SRCC lost 7 dB to the holes).
+ *   Viewpoint when UseViewpoint is on, else away from the centroid. The cloud is then
+ *   contoured once at its finest level (a signed distance to the oriented points, Hoppe et al.
+ *   1992, and dual contouring of its sign changes) and that mesh is built like any other.
  *
- * Algorithm (all in the VTK-free kernel plod::BuildOctree, driven with vtkSMPTools):
- * 1. The root is a cube around the bounds with a margin of 1/32 of the extent on each side
- *    (and a shift below 1e-3 of the edge so that regular coordinates avoid grid planes).
- * 2. Finest samples: the input vertices; the points where triangles cross finest grid edges
- *    (watertight: a grid line through a shared mesh edge or vertex is counted exactly once); for
- *    clouds, the sign changes of a signed distance to the oriented points (Hoppe et al. 1992).
- *    Each crossing creates the four cells around its edge, so dual contouring never misses one.
- * 3. Per finest cell: vertex by the paper's mean rule (mean of the input vertices inside and of
- *    the crossings on the cell's edges) or by the QEF rule; normal cone with the area-weighted
- *    mean normal as axis and the largest angle to it; material min/max; crossing word.
- * 4. Coarser cells: cones by SRCC eq. (1)-(2) (near-zero sum: theta = pi); shape error by
- *    eq. (3) over all finest descendants; material min/max; crossings of each coarse edge as the
- *    signed sum of its two halves; vertex by the same rule over the cell's own samples.
+ * The surface is a vertex-clustering hierarchy (Lindstrom 2000; Luebke & Erikson 1997) laid out
+ * as SRCC's octree:
+ * 1. leaves at the finest level, one per occupied cell; every triangle stored with the node where
+ *    it collapses (the deepest node holding two of its corners);
+ * 2. per cell: vertex by the QEF rule (plane quadrics of the triangles at the cell's points,
+ *    truncated solve about their mean, clamped to the cell: the default) or the paper's mean
+ *    rule (the mean of the points inside); normal cone whose axis is the area-weighted mean
+ *    normal and which holds the normal of every triangle that meets the cell (including those
+ *    that only pass through it); coarser cones bound their children's by SRCC eq. (2); shape
+ *    error by eq. (3) over the points inside; material min/max;
+ * 3. a topology flag: the cell's sub-mesh is a union of discs (Euler characteristic).
+ * See Filters/Core/plodOctreeBuilder.h for why this surface and not the dual contouring of
+ * edge crossings the first version used (which capped the finest level at 29-32 dB PSNR and
+ * opened holes in thin parts).
  *
- * Default finest level (FinestLevel = -1): for meshes, the level whose cell edge is nearest the
- * median triangle edge length; for clouds, the deepest level whose occupied cells hold at least
- * 4 points on average; in both cases lowered until the estimated build memory fits
- * MemoryLimit. An explicit level whose estimated memory exceeds MemoryLimit is an error.
+ * Default finest level (FinestLevel = -1): for meshes, the shallowest level whose occupied cells
+ * separate at least half of the distinct input points (most leaves then hold one or two
+ * points); for clouds, the deepest level whose occupied cells hold at least 4 points on
+ * average. It is lowered, with a warning saying to which level and why, when the estimated
+ * memory exceeds the limit; GetFinestLevelReason() says which rule decided. An explicit level
+ * whose estimated memory exceeds MemoryLimit is an error.
  *
- * Bad input: no points gives an empty octree; NaN or infinite coordinates, triangles that
- * refer to missing points, or parameters out of range give an error and an empty octree.
- * Degenerate triangles are skipped (counted in GetNumberOfSkippedTriangles()); duplicate
- * triangles count once per copy, and only the sign of a net crossing is kept.
+ * Bad input never stops the build silently: triangles with an index out of range or a point
+ * with NaN or infinite coordinates are skipped with a warning (GetNumberOfInvalidTriangles()),
+ * as are triangles that repeat a point (GetNumberOfDegenerateTriangles()); a normals, material
+ * or viewpoint array shorter or longer than what it describes is an error naming the array; a
+ * model whose extent single-precision storage cannot represent (outside [1e-30, 1e30]) is an
+ * error. Errors give an empty octree.
  *
- * @warning Thin parts (two sheets inside one finest cell with opposite orientation) cancel in
- * the crossing data and disappear from the patches, as in any dual contouring on a grid.
+ * @warning A tube thinner than a cell collapses into a line when that cell is drawn at its
+ * vertex; the topology flag makes the selector refine such cells while they cover more than a
+ * pixel (vtkPerceptualLODSelector::SetTopologyTolerance).
  *
  * @sa vtkMultiscaleOctree vtkPerceptualLODSelector vtkMultiscalePatchGenerator
  */
@@ -56,6 +63,8 @@
 
 #include "PerceptualLODFiltersModule.h" // for export macro
 #include "vtkMultiscaleOctreeAlgorithm.h"
+
+#include <string> // for the level reason
 
 class PERCEPTUALLODFILTERS_EXPORT vtkMultiscaleOctreeBuilder : public vtkMultiscaleOctreeAlgorithm
 {
@@ -78,12 +87,13 @@ public:
 
   enum VertexRules
   {
-    VERTEX_MEAN = 0, ///< SRCC: mean of vertices inside and crossings on the cell's edges
-    VERTEX_QEF = 1   ///< minimiser of the plane quadrics (Lindstrom 2000, Ju et al. 2002)
+    VERTEX_MEAN = 0, ///< SRCC: mean of the input points inside the cell
+    VERTEX_QEF = 1   ///< minimiser of the plane quadrics (Lindstrom 2000), clamped to the cell
   };
 
   ///@{
-  /// How representative vertices are computed. Default VERTEX_MEAN (the paper's rule).
+  /// How representative vertices are computed. Default VERTEX_QEF (better images at equal
+  /// triangles than the paper's mean rule; see docs/results).
   vtkSetClampMacro(VertexRule, int, VERTEX_MEAN, VERTEX_QEF);
   vtkGetMacro(VertexRule, int);
   void SetVertexRuleToMean() { this->SetVertexRule(VERTEX_MEAN); }
@@ -123,9 +133,13 @@ public:
   ///@}
 
   ///@{
-  /// Memory the build may use, in MiB. Default 4096.
+  /**
+   * Memory the build may use for itself (the input not counted), in MiB. 0 (default):
+   * automatic, three quarters of the machine's physical memory (GetEffectiveMemoryLimit()).
+   */
   vtkSetMacro(MemoryLimit, double);
   vtkGetMacro(MemoryLimit, double);
+  double GetEffectiveMemoryLimit();
   ///@}
 
   ///@{
@@ -136,10 +150,14 @@ public:
   ///@}
 
   ///@{
-  /// Figures of the last execution.
-  vtkGetMacro(NumberOfCrossings, vtkIdType);
-  vtkGetMacro(NumberOfSkippedTriangles, vtkIdType);
+  /// Figures of the last execution: triangles read, skipped (invalid + degenerate), nodes whose
+  /// sub-mesh is not a union of discs, and why the finest level is what it is.
   vtkGetMacro(NumberOfInputTriangles, vtkIdType);
+  vtkGetMacro(NumberOfSkippedTriangles, vtkIdType);
+  vtkGetMacro(NumberOfInvalidTriangles, vtkIdType);
+  vtkGetMacro(NumberOfDegenerateTriangles, vtkIdType);
+  vtkGetMacro(NumberOfUnsafeNodes, vtkIdType);
+  const char* GetFinestLevelReason() { return this->FinestLevelReason.c_str(); }
   /// Wall-clock seconds of the last build.
   vtkGetMacro(BuildTime, double);
   ///@}
@@ -163,9 +181,12 @@ protected:
   double MemoryLimit;
   bool MultiThreaded;
 
-  vtkIdType NumberOfCrossings;
   vtkIdType NumberOfSkippedTriangles;
+  vtkIdType NumberOfInvalidTriangles;
+  vtkIdType NumberOfDegenerateTriangles;
   vtkIdType NumberOfInputTriangles;
+  vtkIdType NumberOfUnsafeNodes;
+  std::string FinestLevelReason;
   double BuildTime;
 
 private:

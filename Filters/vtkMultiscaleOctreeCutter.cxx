@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMultiscaleOctreeCutter.h"
 
-#include "plodPatches.h"
+#include "plodCut.h"
 
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
@@ -48,9 +48,10 @@ int vtkMultiscaleOctreeCutter::RequestData(
     return 1;
   }
   plod::OctreeView v;
-  if (!input->GetView(v))
+  std::string why;
+  if (!input->CheckConsistency(&why) || !input->GetView(v))
   {
-    vtkErrorMacro("The input octree's node arrays are missing or malformed.");
+    vtkErrorMacro("The input octree is invalid (" << why << "): empty output.");
     return 1;
   }
   output->ShallowCopy(input);
@@ -85,7 +86,7 @@ int vtkMultiscaleOctreeCutter::RequestData(
         v, [this](int64_t n) { return this->RefineCallback(static_cast<vtkIdType>(n)); }, state);
       break;
     default:
-      plod::UniformCut(v, this->Level < 0 ? v.FinestLevel : this->Level, state);
+      plod::UniformCut(v, this->Level, state);
   }
   output->GetNodeData()->AddArray(cut);
   return 1;

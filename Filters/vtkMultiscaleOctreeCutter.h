@@ -9,10 +9,13 @@
  * choice from a view is vtkPerceptualLODSelector's.
  *
  * Modes:
- * - CUT_UNIFORM (default): every node at Level (clamped to the finest level; -1 means finest).
+ * - CUT_UNIFORM (default): every node at Level, drawn at its representative vertex. Level -1
+ *   (the default), or any level above the finest, opens every leaf: the full resolution, the
+ *   input itself.
  * - CUT_REFINE_ARRAY: a node is refined when the node array named RefineArrayName is non-zero
- *   for it; the cut is where refinement stops (the root is always considered). From Python, set
- *   such an array with numpy on the builder's output, then connect it here.
+ *   for it (a refined leaf is opened); the cut is where refinement stops (the root is always
+ *   considered). From Python, set such an array with numpy on the builder's output, then
+ *   connect it here.
  * - CUT_CALLBACK (C++ only): SetRefineCallback(std::function<bool(vtkIdType)>) decides.
  *
  * @sa vtkMultiscaleOctree vtkMultiscalePatchGenerator vtkPerceptualLODSelector
@@ -51,7 +54,7 @@ public:
   ///@}
 
   ///@{
-  /// Level of the uniform cut; -1 (default) is the finest level, larger values are clamped.
+  /// Level of the uniform cut; -1 (default) or above the finest level: full resolution.
   vtkSetMacro(Level, int);
   vtkGetMacro(Level, int);
   ///@}

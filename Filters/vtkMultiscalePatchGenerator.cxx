@@ -29,7 +29,7 @@ struct vtkMultiscalePatchGenerator::Internals
 {
   plod::PatchWorkspace Workspace;
   plod::PatchResult Result;
-  std::vector<uint8_t> FinestCut; // used when the input carries no cut
+  std::vector<uint8_t> FullCut; // used when the input carries no cut
 };
 
 //------------------------------------------------------------------------------
@@ -37,9 +37,10 @@ vtkMultiscalePatchGenerator::vtkMultiscalePatchGenerator()
   : GenerateNormals(true)
   , GenerateColors(false)
   , GenerateNodeIds(false)
+  , GenerateInputPointIds(false)
   , NumberOfTriangles(0)
+  , NumberOfOutputPoints(0)
   , NodesVisited(0)
-  , MergedPoints(0)
   , GenerateTime(0)
   , Internal(new Internals)
 {
@@ -62,7 +63,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   vtkMultiscaleOctree* input = vtkMultiscaleOctree::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   output->Initialize();
-  this->NumberOfTriangles = this->NodesVisited = this->MergedPoints = 0;
+  this->NumberOfTriangles = this->NodesVisited = this->NumberOfOutputPoints = 0;
   this->GenerateTime = 0;
   if (!input || input->GetNumberOfNodes() == 0)
   {
@@ -70,10 +71,11 @@ int vtkMultiscalePatchGenerator::RequestData(
   }
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
+  std::string why;
   plod::OctreeView v;
-  if (!input->GetView(v))
+  if (!input->CheckConsistency(&why) || !input->GetView(v))
   {
-    vtkErrorMacro("The input octree's node arrays are missing or malformed.");
+    vtkErrorMacro("The input octree is invalid (" << why << "): empty output.");
     return 1;
   }
   const uint8_t* state = nullptr;
@@ -87,33 +89,42 @@ int vtkMultiscalePatchGenerator::RequestData(
   {
     if (cut)
     {
-      vtkWarningMacro("CutState array has the wrong size or type: drawing the finest level.");
+      vtkWarningMacro("CutState array has the wrong size or type: drawing full resolution.");
     }
-    this->Internal->FinestCut.resize(v.NumberOfNodes);
-    plod::UniformCut(v, v.FinestLevel, this->Internal->FinestCut.data());
-    state = this->Internal->FinestCut.data();
+    this->Internal->FullCut.resize(v.NumberOfNodes);
+    plod::UniformCut(v, -1, this->Internal->FullCut.data());
+    state = this->Internal->FullCut.data();
+  }
+  const uint8_t* cullMask = nullptr;
+  auto* mask = vtkUnsignedCharArray::SafeDownCast(
+    input->GetNodeData()->GetAbstractArray(vtkMultiscaleOctree::CullMaskArrayName()));
+  if (mask && mask->GetNumberOfComponents() == 1 && mask->GetNumberOfTuples() == v.NumberOfNodes)
+  {
+    cullMask = mask->GetPointer(0);
   }
 
   plod::PatchResult& r = this->Internal->Result;
-  std::string why;
-  if (!plod::GeneratePatches(v, state, r, &why, &this->Internal->Workspace))
+  if (!plod::GeneratePatches(v, state, cullMask, r, &why, &this->Internal->Workspace))
   {
-    vtkErrorMacro("Invalid cut: " << why << ".");
+    vtkErrorMacro("Invalid cut: " << why << ". Empty output.");
     return 1;
   }
   this->UpdateProgress(0.5);
 
-  const vtkIdType np = static_cast<vtkIdType>(r.PointNode.size());
+  const vtkIdType np = static_cast<vtkIdType>(r.PointSource.size());
   const vtkIdType nt = static_cast<vtkIdType>(r.Triangles.size() / 3);
   // far from the origin relative to its size: keep double precision
   const double far = std::max({ std::abs(v.Origin[0]), std::abs(v.Origin[1]),
     std::abs(v.Origin[2]) });
+  auto position = [&v](int64_t source) {
+    return source >= 0 ? &v.Vertex[3 * source] : &v.Points[3 * (-1 - source)];
+  };
   vtkNew<vtkPoints> points;
   points->SetDataType(far > 100.0 * v.RootEdge ? VTK_DOUBLE : VTK_FLOAT);
   points->SetNumberOfPoints(np);
   for (vtkIdType i = 0; i < np; ++i)
   {
-    const float* x = &v.Vertex[3 * r.PointNode[i]];
+    const float* x = position(r.PointSource[i]);
     points->SetPoint(i, v.Origin[0] + x[0], v.Origin[1] + x[1], v.Origin[2] + x[2]);
   }
   output->SetPoints(points);
@@ -122,16 +133,19 @@ int vtkMultiscalePatchGenerator::RequestData(
   offsets->SetNumberOfValues(nt + 1);
   connectivity->SetNumberOfValues(3 * nt);
   vtkIdType* off = offsets->GetPointer(0);
-  vtkIdType* con = connectivity->GetPointer(0);
   for (vtkIdType t = 0; t <= nt; ++t)
   {
     off[t] = 3 * t;
   }
-  std::copy(r.Triangles.begin(), r.Triangles.end(), con);
+  std::copy(r.Triangles.begin(), r.Triangles.end(), connectivity->GetPointer(0));
   vtkNew<vtkCellArray> polys;
   polys->SetData(offsets, connectivity);
   output->SetPolys(polys);
 
+  // the node of an output point: its cell, or the leaf of an opened leaf's point
+  auto nodeOf = [&v](int64_t source) {
+    return source >= 0 ? source : int64_t(v.PointLeaf[-1 - source]);
+  };
   if (this->GenerateNormals)
   {
     vtkNew<vtkFloatArray> normals;
@@ -141,7 +155,8 @@ int vtkMultiscalePatchGenerator::RequestData(
     float* n = normals->GetPointer(0);
     for (vtkIdType i = 0; i < np; ++i)
     {
-      std::copy_n(&v.ConeAxis[3 * r.PointNode[i]], 3, n + 3 * i);
+      const int64_t s = r.PointSource[i];
+      std::copy_n(s >= 0 ? &v.ConeAxis[3 * s] : &v.Normals[3 * (-1 - s)], 3, n + 3 * i);
     }
     output->GetPointData()->SetNormals(normals);
   }
@@ -153,7 +168,7 @@ int vtkMultiscalePatchGenerator::RequestData(
     colors->SetNumberOfTuples(np);
     for (vtkIdType i = 0; i < np; ++i)
     {
-      const float* d = &v.Diffuse[2 * r.PointNode[i]];
+      const float* d = &v.Diffuse[2 * nodeOf(r.PointSource[i])];
       const double kd = std::min(1.0, std::max(0.0, 0.5 * (double(d[0]) + d[1])));
       const unsigned char g = static_cast<unsigned char>(std::lround(255.0 * kd));
       colors->SetTypedTuple(i, std::array<unsigned char, 3>{ g, g, g }.data());
@@ -165,14 +180,29 @@ int vtkMultiscalePatchGenerator::RequestData(
     vtkNew<vtkIdTypeArray> ids;
     ids->SetName("OctreeNode");
     ids->SetNumberOfTuples(np);
-    std::copy(r.PointNode.begin(), r.PointNode.end(), ids->GetPointer(0));
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      ids->SetValue(i, nodeOf(r.PointSource[i]));
+    }
+    output->GetPointData()->AddArray(ids);
+  }
+  if (this->GenerateInputPointIds)
+  {
+    vtkNew<vtkIdTypeArray> ids;
+    ids->SetName("InputPointId");
+    ids->SetNumberOfTuples(np);
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      const int64_t s = r.PointSource[i];
+      ids->SetValue(i, s >= 0 ? -1 : v.InputPointId[-1 - s]);
+    }
     output->GetPointData()->AddArray(ids);
   }
   timer->StopTimer();
   this->GenerateTime = timer->GetElapsedTime();
   this->NumberOfTriangles = nt;
+  this->NumberOfOutputPoints = np;
   this->NodesVisited = r.NodesVisited;
-  this->MergedPoints = r.MergedPoints;
   return 1;
 }
 
@@ -183,8 +213,10 @@ void vtkMultiscalePatchGenerator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GenerateNormals: " << (this->GenerateNormals ? "On" : "Off") << "\n";
   os << indent << "GenerateColors: " << (this->GenerateColors ? "On" : "Off") << "\n";
   os << indent << "GenerateNodeIds: " << (this->GenerateNodeIds ? "On" : "Off") << "\n";
+  os << indent << "GenerateInputPointIds: " << (this->GenerateInputPointIds ? "On" : "Off")
+     << "\n";
   os << indent << "NumberOfTriangles: " << this->NumberOfTriangles << "\n";
+  os << indent << "NumberOfOutputPoints: " << this->NumberOfOutputPoints << "\n";
   os << indent << "NodesVisited: " << this->NodesVisited << "\n";
-  os << indent << "MergedPoints: " << this->MergedPoints << "\n";
   os << indent << "GenerateTime: " << this->GenerateTime << " s\n";
 }

@@ -5,26 +5,38 @@
  *
  * Turns the cut carried by a vtkMultiscaleOctree (its "CutState" node array, made by
  * vtkPerceptualLODSelector or vtkMultiscaleOctreeCutter) into the vtkPolyData that is drawn:
- * SRCC §2 (Wakatsuki et al. 2003) and its reference 14, dual contouring on minimal edges
- * (Ju et al. 2002). The representative vertices of the cells sharing an edge the surface
- * crosses are joined; cells of different levels meet without cracks because a coarse edge's
- * crossing is the signed sum of its halves. See plodPatches.h for the algorithm.
+ * SRCC §2's multiscale patches (Wakatsuki et al. 2003), made by vertex clustering over the
+ * octree. Every input triangle whose three corners fall into three different cut cells is
+ * drawn, each corner at the representative vertex of its cell (or as itself in a leaf the cut
+ * opened). The work is proportional to the triangles drawn plus the nodes above the cut. See
+ * plodPatches.h for the algorithm.
  *
  * Output:
- * - points: the representative vertices of the cut cells used (world coordinates, double
- *   precision when the octree sits far from the origin relative to its size, else float);
- * - triangles, oriented like the input's (their normals agree with the input's outward side);
- * - point normals from the cells' normal cone axes (SRCC shades by interpolating them);
+ * - points: the representative vertices of the cut cells used and the points of opened leaves
+ *   (world coordinates, double precision when the octree sits far from the origin relative to
+ *   its size, else float);
+ * - triangles, oriented as the input's;
+ * - point normals: the cells' normal cone axes (the area-weighted mean normals), and for the
+ *   points of opened leaves their input shading normals (SRCC shades by interpolation);
  * - optionally (GenerateColors) RGB colours from the cells' mean diffuse reflectance (grey);
- * - optionally (GenerateNodeIds) the point array "OctreeNode": the node of each point.
+ * - optionally (GenerateNodeIds) the point array "OctreeNode": the node of each point (the leaf
+ *   for a point of an opened leaf);
+ * - optionally (GenerateInputPointIds) the point array "InputPointId": the builder input's point
+ *   drawn there, -1 for a representative vertex (a picked point maps back to the input only
+ *   where the cut is at full resolution).
  *
- * Which cells: a triangle is emitted when at least one of its cells is drawn; polygons among
- * hidden cells only (culled, back-facing) are skipped. Triangles that would repeat a point
- * (coincident vertices, a coarse cell beside finer ones) are not emitted; coincident vertices
- * are merged first, so a closed input still gives a closed output.
+ * No crack can open between cells of different levels: triangles share corners as in the
+ * input. A closed, consistently oriented input gives a closed, consistently oriented output at
+ * every cut. The cut of every leaf opened draws the input itself, triangle for triangle.
  *
- * Without a "CutState" array the finest level is drawn (full resolution). An invalid cut (a
- * finest cell with no ancestor in it) is an error and gives an empty output.
+ * Which cells: a triangle is emitted when at least one of its cells is drawn; among hidden
+ * cells only, it is skipped when one of them faces away or when all were culled by one common
+ * frustum plane (the "CullMask" array), and drawn otherwise (a large triangle can cross the view
+ * while its corners lie outside it).
+ *
+ * Without a "CutState" array the full resolution is drawn. An invalid octree or cut (a leaf
+ * with no ancestor in it, a cut node below another, a state above 3) is an error and gives an
+ * empty output.
  *
  * The filter keeps its scratch buffers between executions, so a frame allocates nothing new;
  * it re-executes only when its input or a parameter changes.
@@ -68,10 +80,18 @@ public:
   ///@}
 
   ///@{
+  /// The point array "InputPointId" (input point of each output point, -1 for a cell's
+  /// representative vertex). Default off.
+  vtkSetMacro(GenerateInputPointIds, bool);
+  vtkGetMacro(GenerateInputPointIds, bool);
+  vtkBooleanMacro(GenerateInputPointIds, bool);
+  ///@}
+
+  ///@{
   /// Figures of the last execution.
   vtkGetMacro(NumberOfTriangles, vtkIdType);
+  vtkGetMacro(NumberOfOutputPoints, vtkIdType);
   vtkGetMacro(NodesVisited, vtkIdType);
-  vtkGetMacro(MergedPoints, vtkIdType);
   /// Wall-clock seconds of the last execution.
   vtkGetMacro(GenerateTime, double);
   ///@}
@@ -86,9 +106,10 @@ protected:
   bool GenerateNormals;
   bool GenerateColors;
   bool GenerateNodeIds;
+  bool GenerateInputPointIds;
   vtkIdType NumberOfTriangles;
+  vtkIdType NumberOfOutputPoints;
   vtkIdType NodesVisited;
-  vtkIdType MergedPoints;
   double GenerateTime;
 
 private:

@@ -81,6 +81,7 @@ struct vtkPerceptualLODSelector::Internals
   std::vector<plod::SelectorLight> Lights;
   vtkSmartPointer<vtkUnsignedCharArray> State;
   vtkSmartPointer<vtkUnsignedCharArray> Reason;
+  vtkSmartPointer<vtkUnsignedCharArray> CullMask;
   // the last good output (shallow copy): the pipeline clears the output before each execution,
   // so an invalid input restores this one instead of losing the previous cut
   vtkSmartPointer<vtkMultiscaleOctree> LastOutput = vtkSmartPointer<vtkMultiscaleOctree>::New();
@@ -99,6 +100,7 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , HideBackFaces(true)
   , ContourTolerance(1.0)
   , BrightnessTolerance(4.0)
+  , TopologyTolerance(1.0)
   , ViewAngle(30.0)
   , UseFrustum(false)
   , ParallelProjection(false)
@@ -122,6 +124,8 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , NumberOfVisitedNodes(0)
   , NumberOfCutNodes(0)
   , NumberOfDrawnNodes(0)
+  , NumberOfOpenedLeaves(0)
+  , NumberOfTopologyRefinedNodes(0)
   , SelectTime(0.0)
   , Internal(new Internals)
 {
@@ -228,18 +232,27 @@ int vtkPerceptualLODSelector::RequestData(
 {
   vtkMultiscaleOctree* input = vtkMultiscaleOctree::GetData(inputVector[0]);
   vtkMultiscaleOctree* output = vtkMultiscaleOctree::GetData(outputVector);
+  this->EmptyCutReason.clear();
   if (!input || input->GetNumberOfNodes() == 0)
   {
     output->Initialize();
     this->Internal->LastOutput->Initialize();
     this->NumberOfVisitedNodes = this->NumberOfCutNodes = this->NumberOfDrawnNodes = 0;
+    this->NumberOfOpenedLeaves = 0;
+    this->EmptyCutReason = "the octree is empty";
     return 1;
   }
   plod::OctreeView view;
-  if (!input->GetView(view))
   {
-    vtkErrorMacro("The input octree's node arrays are missing or malformed.");
-    return 1;
+    std::string why;
+    if (!input->CheckConsistency(&why) || !input->GetView(view))
+    {
+      vtkErrorMacro("The input octree is invalid (" << why << "): empty output.");
+      output->Initialize();
+      this->Internal->LastOutput->Initialize();
+      this->EmptyCutReason = "the input octree is invalid";
+      return 1;
+    }
   }
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
@@ -280,6 +293,7 @@ int vtkPerceptualLODSelector::RequestData(
   in.HideBackFaces = this->HideBackFaces;
   in.ContourTolerance = this->ContourTolerance;
   in.BrightnessTolerance = this->BrightnessTolerance;
+  in.TopologyTolerance = this->TopologyTolerance;
   in.UseOctreeMaterial = input->GetHasMaterialArrays();
   in.Diffuse = this->DiffuseReflectance;
   in.Specular = this->SpecularReflectance;
@@ -434,26 +448,56 @@ int vtkPerceptualLODSelector::RequestData(
     I.Reason->SetName(CutReasonArrayName());
     I.Reason->SetNumberOfTuples(view.NumberOfNodes);
     I.Reason->FillValue(0);
+    I.CullMask = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    I.CullMask->SetName(vtkMultiscaleOctree::CullMaskArrayName());
+    I.CullMask->SetNumberOfTuples(view.NumberOfNodes);
+    I.CullMask->FillValue(0);
     I.LevelArray = view.Level;
     I.Nodes = view.NumberOfNodes;
     I.InputTime = input->GetMTime();
   }
   plod::SelectionStats stats;
-  I.Kernel.Select(in, I.State->GetPointer(0), I.Reason->GetPointer(0), stats);
+  I.Kernel.Select(in, I.State->GetPointer(0), I.Reason->GetPointer(0),
+    I.CullMask->GetPointer(0), stats);
   I.State->Modified();
   I.Reason->Modified();
+  I.CullMask->Modified();
 
   output->ShallowCopy(input);
   output->GetNodeData()->RemoveArray(vtkMultiscaleOctree::CutStateArrayName());
   output->GetNodeData()->RemoveArray(CutReasonArrayName());
+  output->GetNodeData()->RemoveArray(vtkMultiscaleOctree::CullMaskArrayName());
   output->GetNodeData()->AddArray(I.State);
   output->GetNodeData()->AddArray(I.Reason);
+  output->GetNodeData()->AddArray(I.CullMask);
+  // a cut that draws nothing says why (the root alone is one point: no triangle)
+  const uint8_t rootState = I.State->GetValue(0);
+  if (stats.Drawn == 0)
+  {
+    this->EmptyCutReason = stats.InCut > 0 && I.Reason->GetValue(0) == plod::Culled
+      ? "the model is outside the view frustum"
+      : "no cell is drawn: every cell in the view faces away from the eye (back faces hidden)";
+  }
+  else if (rootState != plod::NotInCut && rootState != plod::CutOpen)
+  {
+    this->EmptyCutReason = in.VelocityFactor == std::numeric_limits<double>::infinity()
+      ? "DPV: the object's speed reached DirectVelocitySpeed, so the root alone is drawn, which "
+        "is one point and no triangle"
+      : "the whole model projects within the tolerances: the root alone is accepted, which is "
+        "one point and no triangle (the model covers about a pixel, or the tolerances are huge)";
+  }
+  if (!this->EmptyCutReason.empty())
+  {
+    vtkDebugMacro("The cut draws nothing: " << this->EmptyCutReason << ".");
+  }
   I.LastOutput->ShallowCopy(output);
   timer->StopTimer();
   this->SelectTime = timer->GetElapsedTime();
   this->NumberOfVisitedNodes = stats.Visited;
   this->NumberOfCutNodes = stats.InCut;
   this->NumberOfDrawnNodes = stats.Drawn;
+  this->NumberOfOpenedLeaves = stats.Opened;
+  this->NumberOfTopologyRefinedNodes = stats.TopologyRefined;
   return 1;
 }
 
@@ -470,6 +514,7 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FoveationRate: " << this->FoveationRate << "\n";
   os << indent << "HideBackFaces: " << (this->HideBackFaces ? "On" : "Off") << "\n";
   os << indent << "ContourTolerance: " << this->ContourTolerance << " px\n";
+  os << indent << "TopologyTolerance: " << this->TopologyTolerance << " px\n";
   os << indent << "BrightnessTolerance: " << this->BrightnessTolerance << "\n";
   os << indent << "EyePosition: (" << this->EyePosition[0] << ", " << this->EyePosition[1]
      << ", " << this->EyePosition[2] << ")\n";

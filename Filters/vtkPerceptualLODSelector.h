@@ -5,10 +5,11 @@
  *
  * Reads a vtkMultiscaleOctree and the view, written as plain numbers (no renderer inside, so it
  * is testable and usable from Python without a window), and outputs the same octree (shallow
- * copy) with two node arrays: "CutState" (0 not in the cut, 1 drawn, 2 hidden) for
- * vtkMultiscalePatchGenerator, and "CutReason" (plod::CutReason: 1 accepted on the contour, 2
- * accepted by brightness, 3 finest level, 4 culled, 5 back-facing, 6 accepted by a baseline's
- * error test).
+ * copy) with three node arrays for vtkMultiscalePatchGenerator: "CutState" (0 not in the cut,
+ * 1 drawn at the cell's representative vertex, 2 hidden, 3 a leaf opened: drawn at full
+ * resolution), "CutReason" (plod::CutReason: 1 accepted on the contour, 2 accepted by
+ * brightness, 3 leaf opened, 4 culled, 5 back-facing, 6 accepted by a baseline's error test)
+ * and "CullMask" (the frustum planes a culled cell lies outside).
  *
  * Method (METHOD §2; SRCC §3.3-3.5 by Wakatsuki et al. 2003; TMM §3-4; Wang & Sato eq. 1-2;
  * Cheng §2), walking from the root:
@@ -22,7 +23,11 @@
  *    lights (SRCC eq. 7-8), times the projected cell size l_p (n.v_e) d_s / d_o (reduced by the
  *    motion across the view) is at most BrightnessTolerance; else the children are tested for
  *    brightness only;
- * 4. a finest cell that is reached is accepted.
+ * 4. a leaf that is reached and fails a test is opened: its own input points and triangles are
+ *    drawn, so zero tolerances give the input itself.
+ * Topology: a cell whose sub-mesh is not a union of discs (a tube, a handle: collapsing it
+ * would drop its triangles and open a see-through gap) is refined, whatever its errors, while
+ * its edge projects to more than TopologyTolerance pixels.
  * See plodSelector.h for the formulas as implemented.
  *
  * Units: ContourTolerance in pixels (default 1). BrightnessTolerance in brightness x pixels,
@@ -72,6 +77,7 @@
 #include "vtkMultiscaleOctreeAlgorithm.h"
 
 #include <memory> // for the internals
+#include <string> // for the empty-cut reason
 
 class PERCEPTUALLODFILTERS_EXPORT vtkPerceptualLODSelector : public vtkMultiscaleOctreeAlgorithm
 {
@@ -159,11 +165,15 @@ public:
   ///@}
 
   ///@{
-  /// Tolerances: contour T_s in pixels (default 1), brightness T_b (default 4), see above.
+  /// Tolerances: contour T_s in pixels (default 1), brightness T_b (default 4), see above;
+  /// topology: cells that are not topologically safe are refined while their edge projects to
+  /// more than this many pixels (default 1; a huge value turns the rule off).
   vtkSetMacro(ContourTolerance, double);
   vtkGetMacro(ContourTolerance, double);
   vtkSetMacro(BrightnessTolerance, double);
   vtkGetMacro(BrightnessTolerance, double);
+  vtkSetMacro(TopologyTolerance, double);
+  vtkGetMacro(TopologyTolerance, double);
   ///@}
 
   ///@{
@@ -286,6 +296,16 @@ public:
   vtkGetMacro(NumberOfVisitedNodes, vtkIdType);
   vtkGetMacro(NumberOfCutNodes, vtkIdType);
   vtkGetMacro(NumberOfDrawnNodes, vtkIdType);
+  /// Leaves drawn at full resolution, and cells refined only for their topology.
+  vtkGetMacro(NumberOfOpenedLeaves, vtkIdType);
+  vtkGetMacro(NumberOfTopologyRefinedNodes, vtkIdType);
+  /**
+   * Why the last cut draws no triangle, or an empty string when it draws some: the model is
+   * outside the frustum; every cell faces away; or the root alone was accepted (it is one
+   * point: the model covers about a pixel, the tolerances are huge, or DPV's speed limit was
+   * reached, where TMM's DPV draws zero polygons by definition).
+   */
+  const char* GetEmptyCutReason() { return this->EmptyCutReason.c_str(); }
   /// Wall-clock seconds of the last selection.
   vtkGetMacro(SelectTime, double);
   ///@}
@@ -310,6 +330,7 @@ protected:
   bool HideBackFaces;
   double ContourTolerance;
   double BrightnessTolerance;
+  double TopologyTolerance;
   double EyePosition[3];
   double ViewAngle;
   int ViewportSize[2];
@@ -341,6 +362,9 @@ protected:
   vtkIdType NumberOfVisitedNodes;
   vtkIdType NumberOfCutNodes;
   vtkIdType NumberOfDrawnNodes;
+  vtkIdType NumberOfOpenedLeaves;
+  vtkIdType NumberOfTopologyRefinedNodes;
+  std::string EmptyCutReason;
   double SelectTime;
 
 private:

@@ -2,7 +2,7 @@
 // PerceptualLOD's main program. Today: builds the multiscale octree of a model, prints what it
 // holds level by level, and the crack-free patches of each uniform cut. Usage:
 //
-//   PerceptualLODMain [model.ply|.stl|.obj|.vtp] [--level N] [--qef] [--serial]
+//   PerceptualLODMain [model.ply|.stl|.obj|.vtp] [--level N] [--mean] [--serial]
 //
 // Without a file it uses a generated detailed model (a displaced sphere of about 500k
 // triangles), so it runs anywhere.
@@ -28,19 +28,20 @@ int main(int argc, char* argv[])
 {
   std::string file;
   int level = -1;
-  bool qef = false, serial = false;
+  bool mean = false, serial = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
     if (a == "--level" && i + 1 < argc)
       level = std::atoi(argv[++i]);
-    else if (a == "--qef")
-      qef = true;
+    else if (a == "--mean")
+      mean = true;
     else if (a == "--serial")
       serial = true;
     else if (a == "-h" || a == "--help")
     {
-      std::printf("usage: %s [model.ply|.stl|.obj|.vtp] [--level N] [--qef] [--serial]\n", argv[0]);
+      std::printf(
+        "usage: %s [model.ply|.stl|.obj|.vtp] [--level N] [--mean] [--serial]\n", argv[0]);
       return 0;
     }
     else
@@ -69,26 +70,30 @@ int main(int argc, char* argv[])
   vtkNew<vtkMultiscaleOctreeBuilder> builder;
   builder->SetInputData(model);
   builder->SetFinestLevel(level);
-  if (qef)
-    builder->SetVertexRuleToQEF();
+  if (mean)
+    builder->SetVertexRuleToMean();
   builder->SetMultiThreaded(!serial);
   builder->Update();
   vtkMultiscaleOctree* octree = builder->GetOutput();
   if (octree->GetNumberOfNodes() == 0)
   {
-    std::fprintf(stderr, "the octree is empty\n");
+    std::fprintf(stderr, "the octree is empty (see the builder's messages above)\n");
     return 1;
   }
   std::printf("octree: %lld nodes, finest level %d, root edge %g at (%g, %g, %g)\n",
     static_cast<long long>(octree->GetNumberOfNodes()), octree->GetFinestLevel(),
     octree->GetRootEdge(), octree->GetOrigin()[0], octree->GetOrigin()[1],
     octree->GetOrigin()[2]);
-  std::printf("build: %.1f ms (%s), %lld edge crossings, %lld degenerate triangles skipped\n",
+  std::printf("finest level: %s\n", builder->GetFinestLevelReason());
+  std::printf("build: %.1f ms (%s), %lld triangles kept, %lld skipped, %lld nodes not "
+              "topologically safe\n",
     builder->GetBuildTime() * 1e3, serial ? "1 thread" : "vtkSMPTools",
-    static_cast<long long>(builder->GetNumberOfCrossings()),
-    static_cast<long long>(builder->GetNumberOfSkippedTriangles()));
-  std::printf("memory: %.1f MiB, %.1f bytes per node\n", octree->GetActualMemorySize() / 1024.0,
-    octree->GetActualMemorySize() * 1024.0 / octree->GetNumberOfNodes());
+    static_cast<long long>(octree->GetNumberOfSurfaceTriangles()),
+    static_cast<long long>(builder->GetNumberOfSkippedTriangles()),
+    static_cast<long long>(builder->GetNumberOfUnsafeNodes()));
+  std::printf("memory: %.1f MiB (%.1f bytes per input triangle)\n",
+    octree->GetActualMemorySize() / 1024.0,
+    octree->GetActualMemorySize() * 1024.0 / std::max<vtkIdType>(1, octree->GetNumberOfSurfaceTriangles()));
 
   vtkFieldData* nd = octree->GetNodeData();
   auto* lv = vtkUnsignedCharArray::SafeDownCast(nd->GetArray("Level"));
@@ -100,8 +105,17 @@ int main(int argc, char* argv[])
   patches->SetInputConnection(cutter->GetOutputPort());
   std::printf("\nlevel     nodes   cell edge   cone angle (deg) mean/max   shape error mean/max"
               "   patches: triangles    ms\n");
-  for (int l = 0; l <= octree->GetFinestLevel(); ++l)
+  for (int l = 0; l <= octree->GetFinestLevel() + 1; ++l)
   {
+    if (l > octree->GetFinestLevel())
+    {
+      cutter->SetLevel(-1);
+      patches->Update();
+      std::printf(" full %9lld   (every leaf opened: the input)%46lld %6.1f\n",
+        static_cast<long long>(octree->GetNumberOfSurfacePoints()),
+        static_cast<long long>(patches->GetNumberOfTriangles()), patches->GetGenerateTime() * 1e3);
+      break;
+    }
     long long count = 0;
     double am = 0, ax = 0, sm = 0, sx = 0;
     for (vtkIdType n = 0; n < octree->GetNumberOfNodes(); ++n)

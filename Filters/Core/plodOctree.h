@@ -1,31 +1,53 @@
 // SPDX-License-Identifier: BSD-3-Clause
 /**
  * @file plodOctree.h
- * @brief VTK-free description of the multiscale octree layout shared by the builder, the
- * selector and the patch generator.
+ * @brief VTK-free description of the multiscale octree shared by the builder, the selector and
+ * the patch generator.
  *
- * Layout (structure of arrays, one entry per node):
- * - Nodes are stored level by level (level 0, the root, first), and inside one level in Morton
- *   order of their integer cell coordinates. The children of a node are therefore contiguous,
- *   start at `FirstChild[n]` and appear in increasing child index; `ChildMask[n]` has bit `c`
- *   set when child `c` exists. A leaf has `FirstChild == -1` and `ChildMask == 0`.
+ * The octree is a vertex-clustering hierarchy over the input's own triangles (Rossignac &
+ * Borrel 1993, Luebke & Erikson 1997, Lindstrom 2000) laid out as the sparse octree of SRCC §2:
+ * every cell stands for the input points inside it, represented by one vertex `v` with a normal
+ * cone and a shape error; a cut through the tree draws the input's triangles with each corner
+ * replaced by the representative of the cut cell that holds it. Why not dual contouring of
+ * edge crossings (SRCC's reference 14, this project's first surface): see
+ * plodOctreeBuilder.h.
+ *
+ * Nodes (structure of arrays, one entry per node):
+ * - Stored level by level (level 0, the root, first), and inside one level in Morton order of
+ *   their integer cell coordinates. The children of a node are contiguous, start at
+ *   `FirstChild[n]` and appear in increasing child index; `ChildMask[n]` has bit `c` set when
+ *   child `c` exists. Every leaf is at the finest level; a leaf has `FirstChild == -1` and
+ *   `ChildMask == 0`. A child's index is always greater than its parent's.
  * - Child index `c = xbit | ybit << 1 | zbit << 2`: bit set means the upper half on that axis.
- * - Cell edges: edge `e = 4 * a + pbit + 2 * qbit` runs along axis `a`; `(p, q)` are the two
- *   other axes in cyclic order (`a = x: (y, z)`, `a = y: (z, x)`, `a = z: (x, y)`) and
- *   `pbit`, `qbit` tell which side of the cell the edge lies on along `p` and `q`.
- * - Edge-crossing word (32 bits): bit `e` (0..11) is set when the surface crosses edge `e` an
- *   odd number of times, counted with orientation (net crossing != 0); bit `12 + e` is set when
- *   that net crossing is negative, i.e. the surface normal points towards `-a` where it cuts the
- *   edge. A coarse edge is the union of the finer edges it contains: its net crossing is the sum
- *   of theirs, so a cell and its children always agree.
- * - Vertices are stored in single precision *relative to the root origin*: the root cube can
- *   sit 1e6 units from the world origin while the cells are 1e-3 units wide without losing
- *   precision. Add the origin (kept in double) to get world coordinates.
+ * - Vertices are stored in single precision *relative to the root origin* (kept in double), so
+ *   a model far from the world origin keeps its precision.
+ * - `FirstPoint[n]`: the surface points are sorted by the Morton key of their leaf, so the points
+ *   inside any node are the contiguous range [FirstPoint[n], PointEnd(n)).
+ * - `FirstTriangle[n]`: the triangles *owned* by node n are [FirstTriangle[n], TriangleEnd(n)).
+ *   A triangle is owned by the deepest node that holds two of its corners (the deepest of the
+ *   three pairwise lowest common ancestors of its corners' leaves; the leaf itself when two
+ *   corners share a leaf). It collapses (two corners get one representative) exactly when a
+ *   cut accepts its owner or an ancestor, so a cut draws the triangles owned by the nodes
+ *   strictly above it (and by opened leaves).
+ * - `Flags[n]` bit 0 (NodeTopologySafe): every connected component of the sub-mesh made of the
+ *   node's points (the triangles and edges whose corners are all inside) is a disc, judged by
+ *   Euler characteristic: V - E + F equals the number of components. Collapsing such a cell to
+ *   one point cannot close a tube or a handle (which would drop the tube's triangles and open a
+ *   see-through hole); the selector refines unsafe cells while they cover more than a pixel.
+ *
+ * Surface (the input mesh, kept so that the finest cut is the input itself):
+ * - `Points` (3 floats per point, relative to the root origin), `Normals` (unit, 3 floats per
+ *   point: the input's point normals, or the normalised sum of the unit normals of the point's
+ *   triangles, as vtkPolyDataNormals computes without splitting), `PointLeaf` (the leaf node of
+ *   each point), `InputPointId` (the index of each point in the input mesh, -1 for the points a
+ *   point cloud's contouring made), `Triangles` (3 point indices each, oriented as in the input,
+ *   sorted by owner).
  */
 #ifndef plodOctree_h
 #define plodOctree_h
 
 #include <cstdint>
+#include <string>
 
 namespace plod
 {
@@ -33,37 +55,13 @@ namespace plod
 /// Deepest level the Morton keys (3 x 21 bits) can address.
 constexpr int MaxFinestLevel = 21;
 
-/// Edge index of the edge along `axis` lying on side `pbit` of axis p and `qbit` of axis q.
-inline constexpr int EdgeIndex(int axis, int pbit, int qbit)
-{
-  return 4 * axis + pbit + 2 * qbit;
-}
+/// Largest number of nodes, points or triangles (32-bit indices in the arrays).
+constexpr int64_t MaxIndex = 2147483647;
 
-/// Bit mask of an edge in the edge-crossing word.
-inline constexpr uint32_t EdgeCrossedBit(int edge)
-{
-  return 1u << edge;
-}
+/// Node flag: the cell's sub-mesh is a union of discs (see the file documentation).
+constexpr uint8_t NodeTopologySafe = 1;
 
-/// Bit telling that the crossing on `edge` is oriented towards the negative axis.
-inline constexpr uint32_t EdgeNegativeBit(int edge)
-{
-  return 1u << (12 + edge);
-}
-
-/// Net orientation of the crossing on `edge`: +1, -1, or 0 when not crossed.
-inline constexpr int EdgeSign(uint32_t word, int edge)
-{
-  return (word & EdgeCrossedBit(edge)) ? ((word & EdgeNegativeBit(edge)) ? -1 : 1) : 0;
-}
-
-/// Encodes a net crossing count into the word (only its sign is kept).
-inline constexpr uint32_t EncodeEdge(int edge, int net)
-{
-  return net == 0 ? 0u : (EdgeCrossedBit(edge) | (net < 0 ? EdgeNegativeBit(edge) : 0u));
-}
-
-/// Read-only view of the node arrays. Pointers are owned elsewhere (the vtkMultiscaleOctree).
+/// Read-only view of the octree arrays. Pointers are owned elsewhere (the vtkMultiscaleOctree).
 struct OctreeView
 {
   int64_t NumberOfNodes = 0;
@@ -81,7 +79,34 @@ struct OctreeView
   const float* ShapeError = nullptr; // world units
   const float* Diffuse = nullptr;    // (min, max) per node
   const float* Specular = nullptr;   // (min, max) per node
-  const uint32_t* Edges = nullptr;   // edge-crossing word
+  const uint8_t* Flags = nullptr;
+  const int32_t* FirstPoint = nullptr;
+  const int64_t* FirstTriangle = nullptr;
+
+  int64_t NumberOfPoints = 0;
+  const float* Points = nullptr;  // 3 per point, relative to Origin
+  const float* Normals = nullptr; // 3 per point, unit
+  const int32_t* PointLeaf = nullptr;
+  const int64_t* InputPointId = nullptr; // the input point of each surface point, -1 if none
+  int64_t NumberOfTriangles = 0;
+  const int32_t* Triangles = nullptr; // 3 per triangle
+
+  bool IsLeaf(int64_t node) const { return this->ChildMask[node] == 0; }
+
+  /// One past the last point inside `node`.
+  int64_t PointEnd(int64_t node) const
+  {
+    return (node + 1 < this->NumberOfNodes && this->Level[node + 1] == this->Level[node])
+      ? this->FirstPoint[node + 1]
+      : this->NumberOfPoints;
+  }
+
+  /// One past the last triangle owned by `node`.
+  int64_t TriangleEnd(int64_t node) const
+  {
+    return node + 1 < this->NumberOfNodes ? this->FirstTriangle[node + 1]
+                                          : this->NumberOfTriangles;
+  }
 
   /// Index of child `c` of `node`, or -1 when that child does not exist.
   int32_t Child(int64_t node, int c) const
@@ -118,12 +143,14 @@ struct OctreeView
     return -1;
   }
 
-  /// Integer coordinates of `node`'s cell at its own level (walks up to the root).
+  /// Integer coordinates of `node`'s cell at its own level (walks up to the root). Relies on a
+  /// consistent tree (see ValidateOctree): parents have smaller indices, so the walk ends.
   void CellCoordinates(int64_t node, int xyz[3]) const
   {
     xyz[0] = xyz[1] = xyz[2] = 0;
     int shift = 0;
-    for (int64_t n = node; this->Parent[n] >= 0; n = this->Parent[n], ++shift)
+    for (int64_t n = node; n > 0 && this->Parent[n] >= 0 && this->Parent[n] < n && shift < 32;
+         n = this->Parent[n], ++shift)
     {
       const int c = this->ChildIndexInParent(n);
       for (int a = 0; a < 3; ++a)
@@ -137,7 +164,7 @@ struct OctreeView
   double CellEdge(int level) const { return this->RootEdge / static_cast<double>(1u << level); }
 };
 
-/// Writable node arrays, filled by the builder after it has counted the nodes.
+/// Writable arrays, filled by the builder after it has counted nodes, points and triangles.
 struct OctreeArrays
 {
   uint8_t* Level = nullptr;
@@ -150,8 +177,25 @@ struct OctreeArrays
   float* ShapeError = nullptr;
   float* Diffuse = nullptr;
   float* Specular = nullptr;
-  uint32_t* Edges = nullptr;
+  uint8_t* Flags = nullptr;
+  int32_t* FirstPoint = nullptr;
+  int64_t* FirstTriangle = nullptr;
+  float* Points = nullptr;
+  float* Normals = nullptr;
+  int32_t* PointLeaf = nullptr;
+  int64_t* InputPointId = nullptr;
+  int32_t* Triangles = nullptr;
 };
+
+/**
+ * Checks, in time linear in the size of the arrays, everything the kernels rely on: array
+ * pointers present, root first, levels, parents before children and pointing back, child masks
+ * and first children agreeing, leaves exactly at the finest level, point ranges nested and
+ * covering every point once, each point's leaf holding it, triangle ranges increasing and
+ * covering every triangle, triangle corners in range, cone angles in [0, pi], finite vertices.
+ * Returns false and explains in `why`. An empty octree (no nodes) is valid.
+ */
+bool ValidateOctree(const OctreeView& v, std::string* why = nullptr);
 
 /// Morton key of integer cell coordinates (x in bit 0, y in bit 1, z in bit 2 of each triple).
 inline uint64_t MortonEncode(uint32_t x, uint32_t y, uint32_t z)

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "plodSelector.h"
 
-#include "plodPatches.h" // for the cut states
 
 #include <algorithm>
 #include <cmath>
@@ -71,16 +70,16 @@ int DistanceLevel(double rootEdge, int finestLevel, double pixelThreshold, doubl
   const double limit = 2.0 * pixelThreshold * std::sin(0.5 * viewAngle) * distance / pixels;
   if (!(limit > 0))
   {
-    return finestLevel;
+    return finestLevel + 1;
   }
-  for (int level = 0; level < finestLevel; ++level)
+  for (int level = 0; level <= finestLevel; ++level)
   {
     if (std::ldexp(rootEdge, -level) <= limit)
     {
       return level;
     }
   }
-  return finestLevel;
+  return finestLevel + 1;
 }
 
 bool ValidateSelectionInput(const SelectionInput& in, std::string* why)
@@ -110,7 +109,7 @@ bool ValidateSelectionInput(const SelectionInput& in, std::string* why)
     return fail("the projection direction is not a finite non-zero vector");
   }
   if (!(in.ContourTolerance >= 0) || !(in.BrightnessTolerance >= 0) ||
-    std::isnan(in.ContourTolerance) || std::isnan(in.BrightnessTolerance))
+    !(in.TopologyTolerance >= 0))
   {
     return fail("tolerances must be non-negative numbers");
   }
@@ -156,8 +155,8 @@ void Selector::SetOctree(const OctreeView& view)
   this->Previous.clear();
 }
 
-void Selector::Select(
-  const SelectionInput& in, uint8_t* state, uint8_t* reason, SelectionStats& stats)
+void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
+  uint8_t* cullMask, SelectionStats& stats)
 {
   const OctreeView& v = this->View;
   stats = SelectionStats();
@@ -165,6 +164,10 @@ void Selector::Select(
   {
     state[n] = NotInCut;
     reason[n] = ReasonNone;
+    if (cullMask)
+    {
+      cullMask[n] = 0;
+    }
   }
   this->Previous.clear();
   if (v.NumberOfNodes == 0)
@@ -205,18 +208,40 @@ void Selector::Select(
     ++stats.InCut;
     ++stats.Drawn;
   };
+  auto open = [&](int64_t n) {
+    state[n] = CutOpen;
+    reason[n] = OpenedLeaf;
+    this->Previous.push_back(static_cast<int32_t>(n));
+    ++stats.InCut;
+    ++stats.Drawn;
+    ++stats.Opened;
+  };
 
   // the walk's stack is a member: its capacity is kept from frame to frame
   std::vector<Entry>& stack = this->Stack;
   stack.clear();
   stack.push_back({ 0, { 0, 0, 0 }, false });
-  auto pushChildren = [&](const Entry& e, bool brightnessOnly) {
+  // refine: the children go on (a leaf is opened); a child index that does not follow its
+  // parent (corrupt arrays) is never followed, so the walk always ends
+  auto refine = [&](const Entry& e, bool brightnessOnly) {
     const unsigned mask = v.ChildMask[e.Node];
+    if (mask == 0)
+    {
+      open(e.Node);
+      return;
+    }
+    const int32_t first = v.FirstChild[e.Node];
+    if (first <= e.Node || first + __builtin_popcount(mask) > v.NumberOfNodes ||
+      v.Level[e.Node] >= MaxFinestLevel)
+    {
+      draw(e.Node, AcceptedError);
+      return;
+    }
     for (int c = 7, r = __builtin_popcount(mask) - 1; c >= 0; --c)
     {
       if (mask & (1u << c))
       {
-        stack.push_back({ v.FirstChild[e.Node] + r--,
+        stack.push_back({ first + r--,
           { 2 * e.C[0] + (c & 1), 2 * e.C[1] + ((c >> 1) & 1), 2 * e.C[2] + ((c >> 2) & 1) },
           brightnessOnly });
       }
@@ -229,26 +254,29 @@ void Selector::Select(
     stack.pop_back();
     const int32_t n = e.Node;
     ++stats.Visited;
-    const int level = v.Level[n];
-    const bool finest = v.ChildMask[n] == 0;
+    const int level = std::min<int>(v.Level[n], MaxFinestLevel);
     const double h = v.CellEdge(level);
     const double lo[3] = { e.C[0] * h, e.C[1] * h, e.C[2] * h };
 
     // 1. frustum
     if (!e.BrightnessOnly && in.UseFrustum)
     {
-      bool outside = false;
-      for (int p = 0; p < 6 && !outside; ++p)
+      uint8_t outside = 0;
+      for (int p = 0; p < 6; ++p)
       {
         const double* pl = in.Planes[p];
         double far = pl[3];
         for (int a = 0; a < 3; ++a)
           far += pl[a] * (pl[a] > 0 ? lo[a] + h : lo[a]);
-        outside = far < 0;
+        outside |= far < 0 ? uint8_t(1u << p) : uint8_t(0);
       }
       if (outside)
       {
         hide(n, Culled);
+        if (cullMask)
+        {
+          cullMask[n] = outside;
+        }
         continue;
       }
     }
@@ -257,10 +285,7 @@ void Selector::Select(
       in.Eye[1] <= lo[1] + h && in.Eye[2] >= lo[2] && in.Eye[2] <= lo[2] + h;
     if (eyeInside && !in.Parallel)
     {
-      if (finest)
-        draw(n, AcceptedFinest);
-      else
-        pushChildren(e, e.BrightnessOnly);
+      refine(e, e.BrightnessOnly);
       continue;
     }
 
@@ -282,10 +307,7 @@ void Selector::Select(
       if (!(dist > 0))
       {
         // the eye on the vertex (outside the cell only through rounding): refine
-        if (finest)
-          draw(n, AcceptedFinest);
-        else
-          pushChildren(e, e.BrightnessOnly);
+        refine(e, e.BrightnessOnly);
         continue;
       }
       for (int a = 0; a < 3; ++a)
@@ -331,7 +353,7 @@ void Selector::Select(
       }
       factor *= std::exp(in.FoveationRate * D);
     }
-    // a tolerance of 0 accepts nothing above the finest level (even an error of exactly 0)
+    // a tolerance of 0 accepts nothing (even an error of exactly 0)
     const double Ts = in.ContourTolerance > 0 ? in.ContourTolerance * factor : -1.0;
     const double Tb = in.BrightnessTolerance > 0 ? in.BrightnessTolerance * factor : -1.0;
 
@@ -347,14 +369,17 @@ void Selector::Select(
           in.MotionB[a];
     }
 
+    // a cell that is not a union of discs is refined while it covers more than a pixel
+    const bool unsafe = !(v.Flags[n] & NodeTopologySafe) && h * k > in.TopologyTolerance;
+
     if (!srcc)
     {
       if (in.Error == ErrorModel::Distance)
       {
-        if (level >= in.DistanceLevel || finest)
-          draw(n, finest && level < in.DistanceLevel ? AcceptedFinest : AcceptedError);
+        if (level >= in.DistanceLevel && !unsafe)
+          draw(n, AcceptedError);
         else
-          pushChildren(e, false);
+          refine(e, false);
         continue;
       }
       double tol = Ts;
@@ -385,12 +410,13 @@ void Selector::Select(
           tol *= in.PSECFactor;
       }
       const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
-      if (err <= tol)
+      if (err <= tol && !unsafe)
         draw(n, AcceptedError);
-      else if (finest)
-        draw(n, AcceptedFinest);
       else
-        pushChildren(e, false);
+      {
+        stats.TopologyRefined += err <= tol ? 1 : 0;
+        refine(e, false);
+      }
       continue;
     }
 
@@ -411,14 +437,17 @@ void Selector::Select(
         const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
         if (err > Ts)
         {
-          if (finest)
-            draw(n, AcceptedFinest);
-          else
-            pushChildren(e, false);
+          refine(e, false);
           continue;
         }
         accepted = AcceptedContour;
       }
+    }
+    if (unsafe)
+    {
+      ++stats.TopologyRefined;
+      refine(e, e.BrightnessOnly);
+      continue;
     }
 
     // 3. brightness (SRCC eq. 7-10, TMM eq. 11-13)
@@ -478,10 +507,8 @@ void Selector::Select(
     }
     if (dB * size * k <= Tb)
       draw(n, accepted);
-    else if (finest)
-      draw(n, AcceptedFinest);
     else
-      pushChildren(e, true);
+      refine(e, true);
   }
 }
 

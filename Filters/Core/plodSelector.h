@@ -22,9 +22,14 @@
  *    `dC = c(max(0, a - theta)) - c(min(pi, a + theta))`, `c(x) = max(0, cos x)` (raised to the
  *    specular power for dC_beta, with the half vector); accept if
  *    `dB max(0, l_p max(0, n.v_e) - |v_d.v_f|) k <= T_b`; else each child through 3 only.
- * 4. A finest cell that is reached is accepted.
- * A tolerance of 0 accepts nothing above the finest level, even a cell whose error is exactly
- * 0 (an unlit or flat cell), so that zero tolerances give the full-resolution cut.
+ * 4. A leaf that is reached and fails a test is opened: it is drawn at full resolution, its
+ *    own input points and triangles (a leaf that passes is drawn at its representative vertex).
+ * A tolerance of 0 accepts nothing, even a cell whose error is exactly 0 (an unlit or flat
+ * cell), so that zero tolerances give the full-resolution cut: the input itself.
+ * Topology: a cell whose sub-mesh is not a union of discs (no NodeTopologySafe flag: a tube, a
+ * handle) is refined, whatever its errors, while its edge projects to more than
+ * TopologyTolerance pixels, because collapsing it would drop a visible part (a tube's triangles
+ * all degenerate). Back-facing and culled cells are hidden first: they are not refined.
  * A cell containing the eye is always refined (its error is unbounded); the eye on a vertex
  * counts as inside.
  *
@@ -38,6 +43,7 @@
 #ifndef plodSelector_h
 #define plodSelector_h
 
+#include "plodCut.h"
 #include "plodOctree.h"
 
 #include <cstdint>
@@ -76,7 +82,7 @@ enum CutReason : uint8_t
   ReasonNone = 0,       // not in the cut
   AcceptedContour = 1,  // on the contour: contour and brightness tests passed
   AcceptedBrightness = 2, // front-facing: brightness test passed
-  AcceptedFinest = 3,   // finest level reached
+  OpenedLeaf = 3,       // a leaf that failed a test: drawn at full resolution (CutOpen)
   Culled = 4,           // outside the view frustum (hidden)
   BackFacing = 5,       // whole cone facing away (hidden)
   AcceptedError = 6     // SCVC, PSEC or Distance test passed
@@ -111,6 +117,7 @@ struct SelectionInput
   bool HideBackFaces = true;
   double ContourTolerance = 1;    // T_s, pixels
   double BrightnessTolerance = 4; // T_b, brightness x pixels
+  double TopologyTolerance = 1;   // pixels; unsafe cells larger than this are refined
 
   std::vector<SelectorLight> Lights;
   bool UseOctreeMaterial = false; // take M_d, M_s from the octree's ranges (their maxima)
@@ -141,13 +148,16 @@ struct SelectionStats
   int64_t Visited = 0;
   int64_t InCut = 0;
   int64_t Drawn = 0;
+  int64_t Opened = 0;        // leaves drawn at full resolution
+  int64_t TopologyRefined = 0; // cells refined only because they are not topologically safe
 };
 
 /// The difference of c(x) = max(0, cos x)^power over a cone: SRCC eq. (7) in one formula.
 /// `cosA`, `sinA`: the angle between the light (or half) vector and the axis; cone angle theta.
 double ConeCosineSpread(double cosA, double sinA, double cosT, double sinT, double power);
 
-/// Wang & Sato eq. (1)-(2): coarsest level whose cell edge is at most 2 n0 sin(angle/2) D / N.
+/// Wang & Sato eq. (1)-(2): coarsest level whose cell edge is at most 2 n0 sin(angle/2) D / N;
+/// finestLevel + 1 (every leaf opened) when even the finest cells are larger.
 int DistanceLevel(double rootEdge, int finestLevel, double pixelThreshold, double viewAngle,
   double distance, double pixels);
 
@@ -163,9 +173,12 @@ class Selector
 public:
   /// Call when the octree changes (recomputes the caches).
   void SetOctree(const OctreeView& view);
-  /// Writes the cut into `state` and `reason` (arrays of NumberOfNodes, kept between calls:
-  /// only the previous cut's entries are cleared).
-  void Select(const SelectionInput& in, uint8_t* state, uint8_t* reason, SelectionStats& stats);
+  /// Writes the cut into `state`, `reason` and `cullMask` (arrays of NumberOfNodes, kept
+  /// between calls: only the previous cut's entries are cleared). `cullMask` (may be null)
+  /// receives, for culled cells, the frustum planes their cell lies wholly outside (bit i:
+  /// plane i), for the patch generator.
+  void Select(const SelectionInput& in, uint8_t* state, uint8_t* reason, uint8_t* cullMask,
+    SelectionStats& stats);
 
 private:
   /// A node to visit: its cell coordinates and whether only brightness is still tested.

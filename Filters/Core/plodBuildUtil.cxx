@@ -1,0 +1,244 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "plodBuildUtil.h"
+
+#include <Eigen/Dense>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+
+namespace plod
+{
+namespace build
+{
+
+void RadixSort(std::vector<Item>& items, int bits, const ParallelFor& pfor)
+{
+  const int64_t n = static_cast<int64_t>(items.size());
+  if (bits <= 0 || n < 2)
+  {
+    return;
+  }
+  const int passes = (bits + 10) / 11;
+  const int digit = (bits + passes - 1) / passes; // balanced digits, at most 11 bits
+  const size_t buckets = size_t(1) << digit;
+  const int64_t chunks = n < 65536 ? 1 : 16;
+  const int64_t chunkSize = (n + chunks - 1) / chunks;
+  std::vector<Item> tmp(items.size());
+  std::vector<size_t> count(buckets * chunks);
+  for (int shift = 0; shift < bits; shift += digit)
+  {
+    std::fill(count.begin(), count.end(), 0);
+    pfor(chunks, 1, [&](int64_t cb, int64_t ce) {
+      for (int64_t c = cb; c < ce; ++c)
+      {
+        size_t* h = &count[c * buckets];
+        for (int64_t i = c * chunkSize, e = std::min(n, (c + 1) * chunkSize); i < e; ++i)
+        {
+          ++h[(items[i].Key >> shift) & (buckets - 1)];
+        }
+      }
+    });
+    size_t sum = 0;
+    for (size_t d = 0; d < buckets; ++d)
+    {
+      for (int64_t c = 0; c < chunks; ++c)
+      {
+        const size_t v = count[c * buckets + d];
+        count[c * buckets + d] = sum;
+        sum += v;
+      }
+    }
+    pfor(chunks, 1, [&](int64_t cb, int64_t ce) {
+      for (int64_t c = cb; c < ce; ++c)
+      {
+        size_t* h = &count[c * buckets];
+        for (int64_t i = c * chunkSize, e = std::min(n, (c + 1) * chunkSize); i < e; ++i)
+        {
+          tmp[h[(items[i].Key >> shift) & (buckets - 1)]++] = items[i];
+        }
+      }
+    });
+    items.swap(tmp);
+  }
+}
+
+void Quadric::Solve(const double mass[3], double truncation, double x[3]) const
+{
+  Eigen::Matrix3d a;
+  a << this->A[0], this->A[1], this->A[2], this->A[1], this->A[3], this->A[4], this->A[2],
+    this->A[4], this->A[5];
+  const Eigen::Vector3d m(mass[0], mass[1], mass[2]);
+  const Eigen::Vector3d r = Eigen::Vector3d(this->B[0], this->B[1], this->B[2]) - a * m;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(a);
+  const Eigen::Vector3d& ev = eig.eigenvalues();
+  const double top = std::max(std::abs(ev[0]), std::max(std::abs(ev[1]), std::abs(ev[2])));
+  Eigen::Vector3d result = m;
+  if (top > 0 && std::isfinite(top))
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      if (std::abs(ev[i]) > truncation * top)
+      {
+        const Eigen::Vector3d u = eig.eigenvectors().col(i);
+        result += u * (u.dot(r) / ev[i]);
+      }
+    }
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    x[i] = std::isfinite(result[i]) ? result[i] : mass[i];
+  }
+}
+
+bool TriangleMeetsBox(
+  const double a[3], const double b[3], const double c[3], const double lo[3], double h)
+{
+  // work about the box centre, with half size r
+  const double r = 0.5 * h;
+  double v[3][3];
+  for (int i = 0; i < 3; ++i)
+  {
+    const double centre = lo[i] + r;
+    v[0][i] = a[i] - centre;
+    v[1][i] = b[i] - centre;
+    v[2][i] = c[i] - centre;
+  }
+  // box axes: the triangle's bounding box against the box
+  for (int i = 0; i < 3; ++i)
+  {
+    const double mn = std::min({ v[0][i], v[1][i], v[2][i] });
+    const double mx = std::max({ v[0][i], v[1][i], v[2][i] });
+    if (mn > r || mx < -r)
+    {
+      return false;
+    }
+  }
+  const double e[3][3] = { { v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2] },
+    { v[2][0] - v[1][0], v[2][1] - v[1][1], v[2][2] - v[1][2] },
+    { v[0][0] - v[2][0], v[0][1] - v[2][1], v[0][2] - v[2][2] } };
+  // the triangle's plane
+  double n[3];
+  Cross(e[0], e[1], n);
+  {
+    const double d = Dot(n, v[0]);
+    const double extent = r * (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]));
+    if (std::abs(d) > extent)
+    {
+      return false;
+    }
+  }
+  // the nine axes e_i x box axis j
+  for (int i = 0; i < 3; ++i)
+  {
+    for (int j = 0; j < 3; ++j)
+    {
+      double axis[3] = { 0, 0, 0 };
+      const double unit[3] = { j == 0 ? 1.0 : 0.0, j == 1 ? 1.0 : 0.0, j == 2 ? 1.0 : 0.0 };
+      Cross(e[i], unit, axis);
+      const double p0 = Dot(axis, v[0]), p1 = Dot(axis, v[1]), p2 = Dot(axis, v[2]);
+      const double extent = r * (std::abs(axis[0]) + std::abs(axis[1]) + std::abs(axis[2]));
+      if (std::min({ p0, p1, p2 }) > extent || std::max({ p0, p1, p2 }) < -extent)
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+std::string FormatNumber(double x)
+{
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.6g", x);
+  return text;
+}
+
+namespace
+{
+double Seconds()
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+    .count();
+}
+}
+
+Reporter::Reporter(const ProgressCallback& callback)
+  : Callback(callback)
+  , Timing(std::getenv("PLOD_BUILD_TIMING") != nullptr)
+  , Clock(Seconds())
+{
+}
+
+void Reporter::Finish()
+{
+  if (this->Timing && this->Name)
+  {
+    const double now = Seconds();
+    std::fprintf(stderr, "plod build: %-16s %9.1f ms\n", this->Name, 1e3 * (now - this->Clock));
+    this->Clock = now;
+  }
+}
+
+bool Reporter::Phase(const char* name, double start, double end)
+{
+  this->Finish();
+  this->Name = name;
+  this->Clock = Seconds();
+  this->Start = start;
+  this->End = end;
+  return (*this)(0.0);
+}
+
+bool Reporter::operator()(double fraction)
+{
+  if (this->Stopped)
+  {
+    return false;
+  }
+  if (this->Callback &&
+    !this->Callback(this->Start + (this->End - this->Start) * std::min(1.0, std::max(0.0, fraction))))
+  {
+    this->Stopped = true;
+  }
+  return !this->Stopped;
+}
+
+bool PlaceRootCube(const double lo[3], const double hi[3], double origin[3], double& rootEdge,
+  std::string* why)
+{
+  constexpr double margin = 1.0 / 32.0;
+  constexpr double shift[3] = { 4.14213562e-4, 2.36067977e-4, 1.41592654e-4 };
+  double extent = std::max({ hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] });
+  const double far = std::max({ std::abs(lo[0]), std::abs(hi[0]), std::abs(lo[1]),
+    std::abs(hi[1]), std::abs(lo[2]), std::abs(hi[2]) });
+  if (!(extent > far * 1e-12) || !std::isfinite(extent))
+  {
+    // all points coincide (or the extent is below double resolution at that distance): give
+    // the root a size that the coordinates can still resolve
+    extent = far > 0 ? far * 1e-6 : 1.0;
+  }
+  // single-precision storage of vertices and shape errors relative to the origin: cells of the
+  // finest level must stay normal floats, and the extent finite as a float
+  if (!(extent >= 1e-30) || !(extent <= 1e30))
+  {
+    if (why)
+    {
+      *why = "the model's extent " + FormatNumber(extent) +
+        " is outside [1e-30, 1e30], which single-precision vertices cannot represent; scale "
+        "the coordinates";
+    }
+    return false;
+  }
+  rootEdge = extent * (1.0 + 2.0 * margin);
+  for (int a = 0; a < 3; ++a)
+  {
+    origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * rootEdge - shift[a] * rootEdge;
+  }
+  return true;
+}
+
+} // namespace build
+} // namespace plod

@@ -1,0 +1,573 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Provenance: Wang & Sato (octree levels from scattered range data); Hoppe et al. 1992
+// (signed distance to tangent planes); dual contouring / surface nets at one level (Gibson
+// 1998, Ju et al. 2002).
+#include "plodCloudSurface.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace plod
+{
+namespace build
+{
+namespace
+{
+
+/// The cloud in Morton order of its finest cells, in grid units of that level.
+struct Cloud
+{
+  int64_t NumberOfPoints = 0;
+  uint32_t Cells = 1;
+  std::vector<double> U;        // 3 per point
+  std::vector<uint64_t> Key;    // finest cell of each point, sorted
+  std::vector<int64_t> Source;  // input index of each point
+  std::vector<float> Normal;    // 3 per point, unit (0 when unknown)
+  std::vector<uint64_t> CellKey; // occupied cells
+  std::vector<int64_t> CellStart;
+};
+
+inline int64_t FindKey(const std::vector<uint64_t>& keys, uint64_t key)
+{
+  auto it = std::lower_bound(keys.begin(), keys.end(), key);
+  return (it != keys.end() && *it == key) ? (it - keys.begin()) : -1;
+}
+
+/// Calls `visit(point)` for the points of the occupied cells (c + d), d in {dlo..dhi}^3.
+template <typename Visit>
+void ForNeighbours(const Cloud& C, const int64_t c[3], int dlo, int dhi, Visit visit)
+{
+  for (int dz = dlo; dz <= dhi; ++dz)
+    for (int dy = dlo; dy <= dhi; ++dy)
+      for (int dx = dlo; dx <= dhi; ++dx)
+      {
+        const int64_t x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
+        if (x < 0 || y < 0 || z < 0 || x >= C.Cells || y >= C.Cells || z >= C.Cells)
+        {
+          continue;
+        }
+        const int64_t ci = FindKey(C.CellKey, MortonEncode(uint32_t(x), uint32_t(y), uint32_t(z)));
+        if (ci >= 0)
+        {
+          for (int64_t s = C.CellStart[ci]; s < C.CellStart[ci + 1]; ++s)
+          {
+            visit(s);
+          }
+        }
+      }
+}
+
+/// Normals by PCA over the points within one cell edge, oriented towards `target(i)`.
+template <typename Target>
+void EstimateNormals(Cloud& C, const ParallelFor& pfor, Target target)
+{
+  pfor(C.NumberOfPoints, 2048, [&](int64_t b, int64_t e) {
+    for (int64_t i = b; i < e; ++i)
+    {
+      if (C.Normal[3 * i] != 0 || C.Normal[3 * i + 1] != 0 || C.Normal[3 * i + 2] != 0)
+      {
+        continue; // given
+      }
+      const double* x = &C.U[3 * i];
+      uint32_t c[3];
+      MortonDecode(C.Key[i], c);
+      const int64_t ci[3] = { c[0], c[1], c[2] };
+      Eigen::Vector3d mean(0, 0, 0);
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      int count = 0;
+      ForNeighbours(C, ci, -1, 1, [&](int64_t s) {
+        const double* y = &C.U[3 * s];
+        const Eigen::Vector3d d(y[0] - x[0], y[1] - x[1], y[2] - x[2]);
+        if (d.squaredNorm() <= 1.0)
+        {
+          mean += d;
+          cov += d * d.transpose();
+          ++count;
+        }
+      });
+      double t[3];
+      target(i, t);
+      Eigen::Vector3d nrm(t[0], t[1], t[2]);
+      if (count >= 3)
+      {
+        mean /= count;
+        cov = cov / count - mean * mean.transpose();
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+        eig.computeDirect(cov);
+        nrm = eig.eigenvectors().col(0);
+      }
+      nrm = nrm.norm() > 0 ? nrm.normalized() : Eigen::Vector3d(0, 0, 1);
+      if (nrm[0] * t[0] + nrm[1] * t[1] + nrm[2] * t[2] < 0)
+      {
+        nrm = -nrm;
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        C.Normal[3 * i + a] = static_cast<float>(nrm[a]);
+      }
+    }
+  });
+}
+
+/// A sign change of the signed distance on a finest grid edge.
+struct Crossing
+{
+  uint64_t Corner; // Morton key of the edge's lower corner
+  double T;        // offset along the edge from that corner, in [0, 1)
+  int Axis;
+  int Sign;       // +1: the inside (negative distance) is at the lower corner
+  int64_t Source; // the point nearest the corner it is closest to
+};
+
+/// Signed distance at the corners of the occupied cells, and its sign changes.
+std::vector<Crossing> SignChanges(const Cloud& C, const ParallelFor& pfor, Reporter& report)
+{
+  std::vector<Item> corners;
+  corners.reserve(C.CellKey.size() * 8);
+  for (uint64_t key : C.CellKey)
+  {
+    uint32_t c[3];
+    MortonDecode(key, c);
+    for (int k = 0; k < 8; ++k)
+    {
+      const uint32_t x = c[0] + (k & 1), y = c[1] + ((k >> 1) & 1), z = c[2] + ((k >> 2) & 1);
+      if (x < C.Cells && y < C.Cells && z < C.Cells)
+      {
+        corners.push_back({ MortonEncode(x, y, z), 0 });
+      }
+    }
+  }
+  int bits = 0;
+  while ((uint64_t(1) << bits) < C.Cells)
+  {
+    ++bits;
+  }
+  RadixSort(corners, 3 * bits, pfor);
+  std::vector<uint64_t> cornerKeys;
+  for (const Item& it : corners)
+  {
+    if (cornerKeys.empty() || cornerKeys.back() != it.Key)
+    {
+      cornerKeys.push_back(it.Key);
+    }
+  }
+  std::vector<Item>().swap(corners);
+  struct CornerValue
+  {
+    double F;
+    int64_t Source; // -1: no point near this corner
+  };
+  std::vector<CornerValue> values(cornerKeys.size());
+  const int64_t nk = static_cast<int64_t>(cornerKeys.size());
+  const bool ok = BlockedFor(
+    nk, 1024, int64_t(1) << 18, pfor,
+    [&](int64_t b, int64_t e) {
+      for (int64_t i = b; i < e; ++i)
+      {
+        uint32_t c[3];
+        MortonDecode(cornerKeys[i], c);
+        const int64_t ci[3] = { c[0], c[1], c[2] };
+        double sw = 0, sf = 0, best = -1;
+        int64_t source = -1;
+        ForNeighbours(C, ci, -1, 0, [&](int64_t s) {
+          const double* y = &C.U[3 * s];
+          const double d[3] = { c[0] - y[0], c[1] - y[1], c[2] - y[2] };
+          const double w = std::exp(-(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+          const float* nn = &C.Normal[3 * s];
+          sf += w * (nn[0] * d[0] + nn[1] * d[1] + nn[2] * d[2]);
+          sw += w;
+          if (w > best)
+          {
+            best = w;
+            source = s;
+          }
+        });
+        values[i] = { sw > 0 ? sf / sw : 0.0, sw > 0 ? source : -1 };
+      }
+    },
+    [&](double f) { return report(0.3 + 0.5 * f); });
+  if (!ok)
+  {
+    return {};
+  }
+  return ChunkedGather<Crossing>(nk, 4096, pfor, [&](int64_t b, int64_t e, std::vector<Crossing>& out) {
+    for (int64_t i = b; i < e; ++i)
+    {
+      const CornerValue& v0 = values[i];
+      if (v0.Source < 0)
+      {
+        continue;
+      }
+      uint32_t c[3];
+      MortonDecode(cornerKeys[i], c);
+      for (int a = 0; a < 3; ++a)
+      {
+        const int p = (a + 1) % 3, q = (a + 2) % 3;
+        if (c[p] == 0 || c[q] == 0 || c[a] + 1 >= C.Cells)
+        {
+          continue; // edges on the root boundary are never crossed
+        }
+        uint32_t d[3] = { c[0], c[1], c[2] };
+        ++d[a];
+        const int64_t j = FindKey(cornerKeys, MortonEncode(d[0], d[1], d[2]));
+        if (j < 0 || values[j].Source < 0)
+        {
+          continue;
+        }
+        const CornerValue& v1 = values[j];
+        const bool in0 = v0.F < 0, in1 = v1.F < 0;
+        if (in0 == in1)
+        {
+          continue;
+        }
+        const double t = std::min(1.0 - 1e-7, std::max(0.0, v0.F / (v0.F - v1.F)));
+        out.push_back(
+          { cornerKeys[i], t, a, in0 ? 1 : -1, t < 0.5 ? v0.Source : v1.Source });
+      }
+    }
+  });
+}
+
+} // namespace
+
+bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const ParallelFor& pfor,
+  Reporter& report, CloudMesh& out, BuildResult& result)
+{
+  report.Phase("cloud scan", 0.0, 0.02);
+  const int64_t np = in.NumberOfPoints;
+  auto X = [&in](int64_t i, int a) {
+    return in.Points ? in.Points[3 * i + a] : double(in.PointsFloat[3 * i + a]);
+  };
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    lo[a] = std::numeric_limits<double>::max();
+    hi[a] = -std::numeric_limits<double>::max();
+  }
+  std::vector<int64_t> finite;
+  finite.reserve(np);
+  for (int64_t i = 0; i < np; ++i)
+  {
+    if (std::isfinite(X(i, 0)) && std::isfinite(X(i, 1)) && std::isfinite(X(i, 2)))
+    {
+      finite.push_back(i);
+      for (int a = 0; a < 3; ++a)
+      {
+        lo[a] = std::min(lo[a], X(i, a));
+        hi[a] = std::max(hi[a], X(i, a));
+      }
+    }
+  }
+  result.NumberOfNonFinitePoints = np - static_cast<int64_t>(finite.size());
+  if (finite.empty())
+  {
+    result.Error = "every point of the cloud has NaN or infinite coordinates";
+    return false;
+  }
+  if (result.NumberOfNonFinitePoints)
+  {
+    result.Warnings.push_back(std::to_string(result.NumberOfNonFinitePoints) +
+      " point(s) with NaN or infinite coordinates skipped");
+  }
+  std::string why;
+  if (!PlaceRootCube(lo, hi, out.Origin, out.RootEdge, &why))
+  {
+    result.Error = why;
+    return false;
+  }
+
+  // level: from the occupied cells of every level
+  report.Phase("cloud level", 0.02, 0.06);
+  const int64_t n = static_cast<int64_t>(finite.size());
+  std::vector<Item> items(n);
+  const double scale21 = std::ldexp(1.0, MaxFinestLevel) / out.RootEdge;
+  const uint32_t cells21 = 1u << MaxFinestLevel;
+  auto cell = [](double u, uint32_t cells) {
+    if (!(u >= 0))
+    {
+      return 0u;
+    }
+    return u >= double(cells) ? cells - 1 : static_cast<uint32_t>(u);
+  };
+  for (int64_t r = 0; r < n; ++r)
+  {
+    const int64_t i = finite[r];
+    items[r] = { MortonEncode(cell((X(i, 0) - out.Origin[0]) * scale21, cells21),
+                   cell((X(i, 1) - out.Origin[1]) * scale21, cells21),
+                   cell((X(i, 2) - out.Origin[2]) * scale21, cells21)),
+      uint64_t(i) };
+  }
+  std::vector<int64_t>().swap(finite);
+  RadixSort(items, 3 * MaxFinestLevel, pfor);
+  int64_t cells[MaxFinestLevel + 1];
+  {
+    int64_t firstDiffers[MaxFinestLevel + 2] = {};
+    for (int64_t r = 1; r < n; ++r)
+    {
+      if (items[r].Key != items[r - 1].Key)
+      {
+        ++firstDiffers[CommonLevel(items[r].Key, items[r - 1].Key, MaxFinestLevel) + 1];
+      }
+    }
+    int64_t sum = 1;
+    for (int l = 0; l <= MaxFinestLevel; ++l)
+    {
+      sum += firstDiffers[l];
+      cells[l] = sum;
+    }
+  }
+  int level = params.FinestLevel;
+  if (level < 0)
+  {
+    level = ChooseFinestLevel(cells, n, 0, true, params.MemoryLimit, &result.LevelReason);
+  }
+  else
+  {
+    result.LevelReason = "set by the user";
+  }
+  if (level < 1)
+  {
+    result.Error = "a point cloud needs a finest level of at least 1 to be contoured";
+    return false;
+  }
+  out.Level = level;
+  if (!report(1.0))
+  {
+    return false;
+  }
+
+  // the cloud in grid units of its level
+  report.Phase("cloud normals", 0.06, 0.2);
+  Cloud C;
+  C.NumberOfPoints = n;
+  C.Cells = 1u << level;
+  const double h = out.RootEdge / double(C.Cells);
+  C.U.resize(3 * n);
+  C.Key.resize(n);
+  C.Source.resize(n);
+  C.Normal.assign(3 * n, 0.0f);
+  const int shift = 3 * (MaxFinestLevel - level);
+  for (int64_t r = 0; r < n; ++r)
+  {
+    const int64_t i = static_cast<int64_t>(items[r].Ref);
+    C.Source[r] = i;
+    C.Key[r] = items[r].Key >> shift;
+    for (int a = 0; a < 3; ++a)
+    {
+      C.U[3 * r + a] = (X(i, a) - out.Origin[a]) / h;
+    }
+    if (in.PointNormals)
+    {
+      const float* g = in.PointNormals + 3 * i;
+      const double len =
+        std::sqrt(double(g[0]) * g[0] + double(g[1]) * g[1] + double(g[2]) * g[2]);
+      if (len > 0 && std::isfinite(len))
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          C.Normal[3 * r + a] = static_cast<float>(g[a] / len);
+        }
+      }
+    }
+    if (r == 0 || C.Key[r] != C.Key[r - 1])
+    {
+      C.CellKey.push_back(C.Key[r]);
+      C.CellStart.push_back(r);
+    }
+  }
+  C.CellStart.push_back(n);
+  std::vector<Item>().swap(items);
+  {
+    double centroid[3] = { 0, 0, 0 };
+    for (int64_t r = 0; r < n; ++r)
+      for (int a = 0; a < 3; ++a)
+        centroid[a] += C.U[3 * r + a] / double(n);
+    double vp[3];
+    for (int a = 0; a < 3; ++a)
+      vp[a] = (in.Viewpoint[a] - out.Origin[a]) / h;
+    EstimateNormals(C, pfor, [&](int64_t r, double t[3]) {
+      const double* x = &C.U[3 * r];
+      for (int a = 0; a < 3; ++a)
+      {
+        if (in.PointViewpoints)
+        {
+          t[a] = (in.PointViewpoints[3 * C.Source[r] + a] - out.Origin[a]) / h - x[a];
+        }
+        else
+        {
+          t[a] = in.HasViewpoint ? vp[a] - x[a] : x[a] - centroid[a];
+        }
+        if (!std::isfinite(t[a]))
+        {
+          t[a] = 0;
+        }
+      }
+    });
+  }
+  if (!report(1.0))
+  {
+    return false;
+  }
+
+  // sign changes of the signed distance
+  report.Phase("cloud distance", 0.2, 0.3);
+  std::vector<Crossing> crossings = SignChanges(C, pfor, report);
+  if (report.Aborted())
+  {
+    return false;
+  }
+  if (crossings.empty())
+  {
+    result.Error = "the point cloud gives no surface at level " + std::to_string(level) +
+      " (its signed distance never changes sign: too few points, or a finer level is needed)";
+    return false;
+  }
+
+  // one vertex per cell next to a sign change: the four cells around each crossed edge
+  report.Phase("cloud contour", 0.3, 0.35);
+  std::vector<Item> around(4 * crossings.size());
+  for (size_t x = 0; x < crossings.size(); ++x)
+  {
+    const Crossing& k = crossings[x];
+    const int a = k.Axis, p = (a + 1) % 3, q = (a + 2) % 3;
+    uint32_t corner[3];
+    MortonDecode(k.Corner, corner);
+    for (int slot = 0; slot < 4; ++slot)
+    {
+      uint32_t cc[3];
+      cc[a] = corner[a];
+      cc[p] = corner[p] - (slot & 1);
+      cc[q] = corner[q] - ((slot >> 1) & 1);
+      around[4 * x + slot] = { MortonEncode(cc[0], cc[1], cc[2]), uint64_t(4 * x + slot) };
+    }
+  }
+  RadixSort(around, 3 * level, pfor);
+  std::vector<uint64_t> vertexKey;
+  std::vector<int64_t> vertexOf(around.size());
+  for (size_t i = 0; i < around.size(); ++i)
+  {
+    if (vertexKey.empty() || vertexKey.back() != around[i].Key)
+    {
+      vertexKey.push_back(around[i].Key);
+    }
+    vertexOf[around[i].Ref] = static_cast<int64_t>(vertexKey.size()) - 1;
+  }
+  const int64_t nv = static_cast<int64_t>(vertexKey.size());
+  std::vector<double> sum(3 * nv, 0.0), nsum(3 * nv, 0.0);
+  std::vector<int> count(nv, 0);
+  const bool material =
+    in.PointDiffuse || in.PointSpecular; // clouds carry material per point only
+  if (in.PointDiffuse)
+  {
+    out.DiffuseMin.assign(nv, std::numeric_limits<float>::max());
+    out.DiffuseMax.assign(nv, -std::numeric_limits<float>::max());
+  }
+  if (in.PointSpecular)
+  {
+    out.SpecularMin.assign(nv, std::numeric_limits<float>::max());
+    out.SpecularMax.assign(nv, -std::numeric_limits<float>::max());
+  }
+  for (size_t x = 0; x < crossings.size(); ++x)
+  {
+    const Crossing& k = crossings[x];
+    uint32_t corner[3];
+    MortonDecode(k.Corner, corner);
+    double at[3] = { double(corner[0]), double(corner[1]), double(corner[2]) };
+    at[k.Axis] += k.T;
+    const float* nn = &C.Normal[3 * k.Source];
+    const int64_t src = C.Source[k.Source];
+    for (int slot = 0; slot < 4; ++slot)
+    {
+      const int64_t v = vertexOf[4 * x + slot];
+      for (int a = 0; a < 3; ++a)
+      {
+        sum[3 * v + a] += at[a];
+        nsum[3 * v + a] += nn[a];
+      }
+      ++count[v];
+      if (material)
+      {
+        if (in.PointDiffuse && std::isfinite(in.PointDiffuse[src]))
+        {
+          out.DiffuseMin[v] = std::min(out.DiffuseMin[v], in.PointDiffuse[src]);
+          out.DiffuseMax[v] = std::max(out.DiffuseMax[v], in.PointDiffuse[src]);
+        }
+        if (in.PointSpecular && std::isfinite(in.PointSpecular[src]))
+        {
+          out.SpecularMin[v] = std::min(out.SpecularMin[v], in.PointSpecular[src]);
+          out.SpecularMax[v] = std::max(out.SpecularMax[v], in.PointSpecular[src]);
+        }
+      }
+    }
+  }
+  auto fixRange = [](std::vector<float>& lo, std::vector<float>& hi, float uniform) {
+    for (size_t v = 0; v < lo.size(); ++v)
+    {
+      if (lo[v] > hi[v])
+      {
+        lo[v] = hi[v] = uniform;
+      }
+    }
+  };
+  fixRange(out.DiffuseMin, out.DiffuseMax, in.UniformDiffuse);
+  fixRange(out.SpecularMin, out.SpecularMax, in.UniformSpecular);
+  out.Points.resize(3 * nv);
+  out.Normals.resize(3 * nv);
+  out.InputIds.assign(nv, -1);
+  for (int64_t v = 0; v < nv; ++v)
+  {
+    uint32_t c[3];
+    MortonDecode(vertexKey[v], c);
+    const double len = std::sqrt(nsum[3 * v] * nsum[3 * v] + nsum[3 * v + 1] * nsum[3 * v + 1] +
+      nsum[3 * v + 2] * nsum[3 * v + 2]);
+    for (int a = 0; a < 3; ++a)
+    {
+      // the mean of the crossings, kept inside the cell so that the vertex gets its own leaf
+      double u = sum[3 * v + a] / count[v];
+      u = std::min(std::max(u, c[a] + 1e-6), c[a] + 1 - 1e-6);
+      out.Points[3 * v + a] = out.Origin[a] + u * h;
+      out.Normals[3 * v + a] = len > 0 ? static_cast<float>(nsum[3 * v + a] / len) : 0.0f;
+    }
+  }
+  // one quad per crossed edge, counter-clockwise about the crossing's outward direction
+  out.Triangles.reserve(6 * crossings.size());
+  const int ring[4] = { 0, 1, 3, 2 }; // slots in turn: (+p+q), (-p+q), (-p-q), (+p-q)
+  for (size_t x = 0; x < crossings.size(); ++x)
+  {
+    int64_t quad[4];
+    for (int i = 0; i < 4; ++i)
+    {
+      quad[i] = vertexOf[4 * x + ring[i]];
+    }
+    if (crossings[x].Sign < 0)
+    {
+      std::swap(quad[1], quad[3]);
+    }
+    auto dist2 = [&out](int64_t i, int64_t j) {
+      double s = 0;
+      for (int a = 0; a < 3; ++a)
+      {
+        const double d = out.Points[3 * i + a] - out.Points[3 * j + a];
+        s += d * d;
+      }
+      return s;
+    };
+    const int64_t tris[2][3] = { { quad[0], quad[1], quad[2] }, { quad[0], quad[2], quad[3] } };
+    const int64_t alt[2][3] = { { quad[0], quad[1], quad[3] }, { quad[1], quad[2], quad[3] } };
+    const bool first = dist2(quad[0], quad[2]) <= dist2(quad[1], quad[3]);
+    for (int t = 0; t < 2; ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        out.Triangles.push_back(first ? tris[t][k] : alt[t][k]);
+      }
+    }
+  }
+  return report(1.0);
+}
+
+} // namespace build
+} // namespace plod

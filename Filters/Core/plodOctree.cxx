@@ -1,0 +1,164 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "plodOctree.h"
+
+#include <cmath>
+#include <vector>
+
+namespace plod
+{
+
+bool ValidateOctree(const OctreeView& v, std::string* why)
+{
+  auto fail = [why](const std::string& text) {
+    if (why)
+    {
+      *why = text;
+    }
+    return false;
+  };
+  const int64_t n = v.NumberOfNodes;
+  if (n == 0)
+  {
+    return true;
+  }
+  if (n < 0 || n > MaxIndex || v.NumberOfPoints < 0 || v.NumberOfPoints > MaxIndex ||
+    v.NumberOfTriangles < 0 || v.NumberOfTriangles > MaxIndex)
+  {
+    return fail("node, point or triangle count out of range");
+  }
+  if (!v.Level || !v.Parent || !v.FirstChild || !v.ChildMask || !v.Vertex || !v.ConeAxis ||
+    !v.ConeAngle || !v.ShapeError || !v.Diffuse || !v.Specular || !v.Flags || !v.FirstPoint ||
+    !v.FirstTriangle || (v.NumberOfPoints > 0 && (!v.Points || !v.Normals || !v.PointLeaf)) ||
+    (v.NumberOfTriangles > 0 && !v.Triangles))
+  {
+    return fail("an octree array is missing");
+  }
+  if (!(v.RootEdge > 0) || !std::isfinite(v.RootEdge) || v.FinestLevel < 0 ||
+    v.FinestLevel > MaxFinestLevel || !std::isfinite(v.Origin[0]) ||
+    !std::isfinite(v.Origin[1]) || !std::isfinite(v.Origin[2]))
+  {
+    return fail("invalid root cube or finest level");
+  }
+  if (v.Parent[0] != -1 || v.Level[0] != 0)
+  {
+    return fail("node 0 is not a root (parent -1, level 0)");
+  }
+  if (v.FirstPoint[0] != 0 || v.FirstTriangle[0] != 0)
+  {
+    return fail("the root's point and triangle ranges do not start at 0");
+  }
+  for (int64_t i = 0; i < n; ++i)
+  {
+    const std::string node = "node " + std::to_string(i);
+    if (i > 0)
+    {
+      const int64_t p = v.Parent[i];
+      if (p < 0 || p >= i)
+      {
+        return fail(node + " has parent " + std::to_string(p) + " (must be a node before it)");
+      }
+      if (v.Level[p] + 1 != v.Level[i])
+      {
+        return fail(node + " is not one level below its parent");
+      }
+      if (v.Level[i] < v.Level[i - 1])
+      {
+        return fail(node + " breaks the level-by-level order");
+      }
+      if (v.FirstTriangle[i] < v.FirstTriangle[i - 1])
+      {
+        return fail(node + " has a triangle range before its predecessor's");
+      }
+      if (v.Level[i] == v.Level[i - 1] && v.FirstPoint[i] < v.FirstPoint[i - 1])
+      {
+        return fail(node + " has a point range before its predecessor's");
+      }
+      if (v.Level[i] != v.Level[i - 1] && v.FirstPoint[i] != 0)
+      {
+        return fail(node + " starts its level but not at point 0");
+      }
+    }
+    if (v.Level[i] > v.FinestLevel)
+    {
+      return fail(node + " is below the finest level");
+    }
+    if (v.FirstPoint[i] < 0 || v.FirstPoint[i] > v.NumberOfPoints ||
+      v.FirstTriangle[i] < 0 || v.FirstTriangle[i] > v.NumberOfTriangles)
+    {
+      return fail(node + " has a point or triangle range outside the arrays");
+    }
+    const unsigned mask = v.ChildMask[i];
+    if (mask == 0)
+    {
+      if (v.FirstChild[i] != -1)
+      {
+        return fail("leaf " + std::to_string(i) + " has a first child");
+      }
+      if (v.Level[i] != v.FinestLevel)
+      {
+        return fail("leaf " + std::to_string(i) + " is not at the finest level");
+      }
+    }
+    else
+    {
+      const int count = __builtin_popcount(mask);
+      const int64_t first = v.FirstChild[i];
+      if (first <= i || first + count > n)
+      {
+        return fail(node + " has children outside the node arrays");
+      }
+      for (int c = 0; c < count; ++c)
+      {
+        if (v.Parent[first + c] != i)
+        {
+          return fail("child " + std::to_string(first + c) + " does not point back to " +
+            std::to_string(i));
+        }
+      }
+      if (v.FirstPoint[first] != v.FirstPoint[i])
+      {
+        return fail(node + " and its first child start at different points");
+      }
+    }
+    if (!(v.ConeAngle[i] >= 0.0f && v.ConeAngle[i] <= 3.1416f) || !std::isfinite(v.Vertex[3 * i]) ||
+      !std::isfinite(v.Vertex[3 * i + 1]) || !std::isfinite(v.Vertex[3 * i + 2]) ||
+      !std::isfinite(v.ConeAxis[3 * i]) || !std::isfinite(v.ConeAxis[3 * i + 1]) ||
+      !std::isfinite(v.ConeAxis[3 * i + 2]) || !(v.ShapeError[i] >= 0.0f))
+    {
+      return fail(node + " has a non-finite vertex or axis, a cone angle outside [0, pi] or a "
+                         "negative shape error");
+    }
+  }
+  // a node's points end where the next node of its level starts: a child range must end
+  // within its parent's (ranges are in Morton order, so nesting follows from the starts)
+  for (int64_t i = 1; i < n; ++i)
+  {
+    const int64_t p = v.Parent[i];
+    if (v.PointEnd(i) > v.PointEnd(p) || v.FirstPoint[i] < v.FirstPoint[p])
+    {
+      return fail("node " + std::to_string(i) + "'s points are not inside its parent's");
+    }
+  }
+  for (int64_t p = 0; p < v.NumberOfPoints; ++p)
+  {
+    const int64_t leaf = v.PointLeaf[p];
+    if (leaf < 0 || leaf >= n || v.ChildMask[leaf] != 0 || p < v.FirstPoint[leaf] ||
+      p >= v.PointEnd(leaf))
+    {
+      return fail("point " + std::to_string(p) + " has leaf " + std::to_string(leaf) +
+        ", which does not hold it");
+    }
+  }
+  for (int64_t t = 0; t < 3 * v.NumberOfTriangles; ++t)
+  {
+    if (v.Triangles[t] < 0 || v.Triangles[t] >= v.NumberOfPoints)
+    {
+      return fail("triangle " + std::to_string(t / 3) + " refers to point " +
+        std::to_string(v.Triangles[t]) + ", outside [0, " + std::to_string(v.NumberOfPoints) +
+        ")");
+    }
+  }
+  return true;
+}
+
+} // namespace plod
