@@ -63,6 +63,8 @@ void vtkMultiscaleOctree::Initialize()
   this->RootEdge = 1.0;
   this->FinestLevel = 0;
   this->HasMaterialArrays = false;
+  this->NumberOfBoundaryEdges = 0;
+  this->NumberOfNonManifoldEdges = 0;
   this->Modified();
 }
 
@@ -77,6 +79,8 @@ void vtkMultiscaleOctree::ShallowCopy(vtkDataObject* src)
     this->RootEdge = o->RootEdge;
     this->FinestLevel = o->FinestLevel;
     this->HasMaterialArrays = o->HasMaterialArrays;
+    this->NumberOfBoundaryEdges = o->NumberOfBoundaryEdges;
+    this->NumberOfNonManifoldEdges = o->NumberOfNonManifoldEdges;
     // the same arrays: the source's check holds for the copy
     this->CheckedKey = o->CheckedKey;
     this->CheckedValid = o->CheckedValid;
@@ -98,6 +102,8 @@ void vtkMultiscaleOctree::DeepCopy(vtkDataObject* src)
     this->RootEdge = o->RootEdge;
     this->FinestLevel = o->FinestLevel;
     this->HasMaterialArrays = o->HasMaterialArrays;
+    this->NumberOfBoundaryEdges = o->NumberOfBoundaryEdges;
+    this->NumberOfNonManifoldEdges = o->NumberOfNonManifoldEdges;
   }
   this->Superclass::DeepCopy(src);
   this->Modified();
@@ -506,6 +512,8 @@ void vtkMultiscaleOctree::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RootEdge: " << this->RootEdge << "\n";
   os << indent << "FinestLevel: " << this->FinestLevel << "\n";
   os << indent << "HasMaterialArrays: " << (this->HasMaterialArrays ? "On" : "Off") << "\n";
+  os << indent << "NumberOfBoundaryEdges: " << this->NumberOfBoundaryEdges << "\n";
+  os << indent << "NumberOfNonManifoldEdges: " << this->NumberOfNonManifoldEdges << "\n";
   os << indent << "NumberOfNodes: " << this->GetNumberOfNodes() << "\n";
   os << indent << "NumberOfSurfacePoints: " << this->GetNumberOfSurfacePoints() << "\n";
   os << indent << "NumberOfSurfaceTriangles: " << this->GetNumberOfSurfaceTriangles() << "\n";

@@ -133,6 +133,18 @@ public:
   vtkGetMacro(HasMaterialArrays, bool);
   vtkSetMacro(HasMaterialArrays, bool);
 
+  ///@{
+  /**
+   * Edges of the surface used by one triangle only (its boundary; 0 for a closed surface), and
+   * edges used by more than two (non-manifold). Set by the builder; the selector hides back
+   * faces by default only when there is no boundary edge.
+   */
+  vtkGetMacro(NumberOfBoundaryEdges, vtkIdType);
+  vtkSetMacro(NumberOfBoundaryEdges, vtkIdType);
+  vtkGetMacro(NumberOfNonManifoldEdges, vtkIdType);
+  vtkSetMacro(NumberOfNonManifoldEdges, vtkIdType);
+  ///@}
+
   /// Sets the root cube and the finest level together.
   void SetGeometry(const double origin[3], double rootEdge, int finestLevel);
 
@@ -251,6 +263,8 @@ protected:
   double RootEdge;
   int FinestLevel;
   bool HasMaterialArrays;
+  vtkIdType NumberOfBoundaryEdges = 0;
+  vtkIdType NumberOfNonManifoldEdges = 0;
   // IsConsistent's cache: the identity and modification times of the arrays it checked (not of
   // the cut arrays, which change every frame), copied by ShallowCopy with the arrays it covers
   struct CheckKey

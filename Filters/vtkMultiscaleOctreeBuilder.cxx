@@ -420,6 +420,8 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   }
   output->SetGeometry(result.Origin, result.RootEdge, result.FinestLevel);
   output->SetHasMaterialArrays(hasMaterial);
+  output->SetNumberOfBoundaryEdges(result.NumberOfBoundaryEdges);
+  output->SetNumberOfNonManifoldEdges(result.NumberOfNonManifoldEdges);
   return 1;
 }
 

@@ -38,6 +38,8 @@ vtkMultiscalePatchGenerator::vtkMultiscalePatchGenerator()
   , GenerateColors(false)
   , GenerateNodeIds(false)
   , GenerateInputPointIds(false)
+  , DropFolds(true)
+  , NumberOfDroppedFolds(0)
   , NumberOfTriangles(0)
   , NumberOfOutputPoints(0)
   , NodesVisited(0)
@@ -64,6 +66,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   output->Initialize();
   this->NumberOfTriangles = this->NodesVisited = this->NumberOfOutputPoints = 0;
+  this->NumberOfDroppedFolds = 0;
   this->GenerateTime = 0;
   if (!input || input->GetNumberOfNodes() == 0)
   {
@@ -104,7 +107,9 @@ int vtkMultiscalePatchGenerator::RequestData(
   }
 
   plod::PatchResult& r = this->Internal->Result;
-  if (!plod::GeneratePatches(v, state, cullMask, r, &why, &this->Internal->Workspace))
+  plod::PatchOptions options;
+  options.DropFolds = this->DropFolds;
+  if (!plod::GeneratePatches(v, state, cullMask, r, &why, &this->Internal->Workspace, options))
   {
     vtkErrorMacro("Invalid cut: " << why << ". Empty output.");
     return 1;
@@ -203,6 +208,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   this->NumberOfTriangles = nt;
   this->NumberOfOutputPoints = np;
   this->NodesVisited = r.NodesVisited;
+  this->NumberOfDroppedFolds = r.FoldsDropped;
   return 1;
 }
 
@@ -218,5 +224,7 @@ void vtkMultiscalePatchGenerator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfTriangles: " << this->NumberOfTriangles << "\n";
   os << indent << "NumberOfOutputPoints: " << this->NumberOfOutputPoints << "\n";
   os << indent << "NodesVisited: " << this->NodesVisited << "\n";
+  os << indent << "DropFolds: " << (this->DropFolds ? "On" : "Off") << "\n";
+  os << indent << "NumberOfDroppedFolds: " << this->NumberOfDroppedFolds << "\n";
   os << indent << "GenerateTime: " << this->GenerateTime << " s\n";
 }

@@ -80,6 +80,18 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Drop the triangles clustering turned over (face normal against all three corner normals,
+   * at least one corner a representative vertex): two-sided lighting would shade them from
+   * behind, as dark specks. Default on. Off keeps every triangle of the cut, so that the output
+   * of a closed input is closed (each edge used as often in both directions).
+   */
+  vtkSetMacro(DropFolds, bool);
+  vtkGetMacro(DropFolds, bool);
+  vtkBooleanMacro(DropFolds, bool);
+  ///@}
+
+  ///@{
   /// The point array "InputPointId" (input point of each output point, -1 for a cell's
   /// representative vertex). Default off.
   vtkSetMacro(GenerateInputPointIds, bool);
@@ -92,6 +104,7 @@ public:
   vtkGetMacro(NumberOfTriangles, vtkIdType);
   vtkGetMacro(NumberOfOutputPoints, vtkIdType);
   vtkGetMacro(NodesVisited, vtkIdType);
+  vtkGetMacro(NumberOfDroppedFolds, vtkIdType);
   /// Wall-clock seconds of the last execution.
   vtkGetMacro(GenerateTime, double);
   ///@}
@@ -107,6 +120,8 @@ protected:
   bool GenerateColors;
   bool GenerateNodeIds;
   bool GenerateInputPointIds;
+  bool DropFolds;
+  vtkIdType NumberOfDroppedFolds;
   vtkIdType NumberOfTriangles;
   vtkIdType NumberOfOutputPoints;
   vtkIdType NodesVisited;

@@ -97,7 +97,8 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , MotionModel(MOTION_NONE)
   , FoveationMode(FOVEATION_OFF)
   , FoveationRate(2.0)
-  , HideBackFaces(true)
+  , BackFaceMode(BACK_FACES_AUTOMATIC)
+  , HidBackFaces(true)
   , ContourTolerance(1.0)
   , BrightnessTolerance(4.0)
   , TopologyTolerance(1.0)
@@ -290,7 +291,9 @@ int vtkPerceptualLODSelector::RequestData(
   in.Error = static_cast<plod::ErrorModel>(this->ErrorModel);
   in.Motion = static_cast<plod::MotionModel>(this->MotionModel);
   in.Foveation = static_cast<plod::FoveationMode>(this->FoveationMode);
-  in.HideBackFaces = this->HideBackFaces;
+  in.HideBackFaces = this->BackFaceMode == BACK_FACES_HIDDEN ||
+    (this->BackFaceMode == BACK_FACES_AUTOMATIC && input->GetNumberOfBoundaryEdges() == 0);
+  this->HidBackFaces = in.HideBackFaces;
   in.ContourTolerance = this->ContourTolerance;
   in.BrightnessTolerance = this->BrightnessTolerance;
   in.TopologyTolerance = this->TopologyTolerance;
@@ -512,7 +515,11 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MotionModel: " << motions[this->MotionModel] << "\n";
   os << indent << "FoveationMode: " << foveations[this->FoveationMode] << "\n";
   os << indent << "FoveationRate: " << this->FoveationRate << "\n";
-  os << indent << "HideBackFaces: " << (this->HideBackFaces ? "On" : "Off") << "\n";
+  os << indent << "BackFaceMode: "
+     << (this->BackFaceMode == BACK_FACES_AUTOMATIC ? "Automatic"
+           : this->BackFaceMode == BACK_FACES_HIDDEN ? "Hidden"
+                                                     : "Drawn")
+     << " (last: " << (this->HidBackFaces ? "hidden" : "drawn") << ")\n";
   os << indent << "ContourTolerance: " << this->ContourTolerance << " px\n";
   os << indent << "TopologyTolerance: " << this->TopologyTolerance << " px\n";
   os << indent << "BrightnessTolerance: " << this->BrightnessTolerance << "\n";

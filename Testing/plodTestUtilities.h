@@ -26,10 +26,13 @@
 #include "vtkTransform.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
@@ -189,6 +192,151 @@ inline vtkSmartPointer<vtkPolyData> MakeBlob(unsigned seed, int res, double nois
   }
   pd->GetPointData()->Initialize();
   return pd;
+}
+
+/**
+ * Closed box surface [0,1]^3 subdivided nx x ny x nz, with outward triangles and welded
+ * points, each point then moved by `map` (which must keep orientation: a positive Jacobian).
+ * The building block of the thin-part models below.
+ */
+inline vtkSmartPointer<vtkPolyData> MakeDeformedBox(
+  int nx, int ny, int nz, const std::function<void(const double in[3], double out[3])>& map)
+{
+  const int n[3] = { nx, ny, nz };
+  std::map<std::array<int, 3>, vtkIdType> ids;
+  std::vector<double> xyz;
+  std::vector<vtkIdType> tri;
+  auto id = [&](const std::array<int, 3>& g) {
+    auto it = ids.find(g);
+    if (it != ids.end())
+    {
+      return it->second;
+    }
+    const double in[3] = { double(g[0]) / n[0], double(g[1]) / n[1], double(g[2]) / n[2] };
+    double out[3];
+    map(in, out);
+    xyz.insert(xyz.end(), out, out + 3);
+    const vtkIdType i = static_cast<vtkIdType>(ids.size());
+    ids[g] = i;
+    return i;
+  };
+  for (int a = 0; a < 3; ++a)
+  {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (int side = 0; side < 2; ++side)
+    {
+      for (int i = 0; i < n[b]; ++i)
+      {
+        for (int j = 0; j < n[c]; ++j)
+        {
+          vtkIdType q[4];
+          const int di[4] = { 0, 1, 1, 0 }, dj[4] = { 0, 0, 1, 1 };
+          for (int k = 0; k < 4; ++k)
+          {
+            std::array<int, 3> g;
+            g[a] = side * n[a];
+            g[b] = i + di[k];
+            g[c] = j + dj[k];
+            q[k] = id(g);
+          }
+          if (side == 0)
+          {
+            std::swap(q[1], q[3]);
+          }
+          tri.insert(tri.end(), { q[0], q[1], q[2], q[0], q[2], q[3] });
+        }
+      }
+    }
+  }
+  return MakeMesh(xyz, tri);
+}
+
+/// A closed thin box 2 x 2 x `thickness` centred at the origin, about `n` quads per unit.
+inline vtkSmartPointer<vtkPolyData> MakeThinBox(double thickness, int n)
+{
+  return MakeDeformedBox(2 * n, 2 * n, 1, [thickness](const double p[3], double x[3]) {
+    x[0] = 2 * p[0] - 1;
+    x[1] = 2 * p[1] - 1;
+    x[2] = (p[2] - 0.5) * thickness;
+  });
+}
+
+/// A closed thin disc of radius 1 and the given thickness (a square plate mapped to a disc).
+inline vtkSmartPointer<vtkPolyData> MakeThinDisc(double thickness, int n)
+{
+  return MakeDeformedBox(2 * n, 2 * n, 1, [thickness](const double p[3], double x[3]) {
+    const double u = 2 * p[0] - 1, v = 2 * p[1] - 1;
+    x[0] = u * std::sqrt(1 - 0.5 * v * v);
+    x[1] = v * std::sqrt(1 - 0.5 * u * u);
+    x[2] = (p[2] - 0.5) * thickness;
+  });
+}
+
+/**
+ * A closed sheet of the given thickness, 2 long, folded over by 180 degrees around a fold of
+ * radius `bend` (mid-surface), so that its two halves lie parallel at 2 * bend apart: a gap of
+ * 2 * bend - thickness between them.
+ */
+inline vtkSmartPointer<vtkPolyData> MakeFoldedSheet(double thickness, double bend, int n)
+{
+  const double flat = 1.0, arc = 3.14159265358979 * bend, length = 2 * flat + arc;
+  const int nl = std::max(4, static_cast<int>(std::ceil(length * n)));
+  return MakeDeformedBox(nl, n, 1, [=](const double p[3], double x[3]) {
+    const double s = p[0] * length, z = (p[2] - 0.5) * thickness;
+    double c[2], nn[2]; // mid-curve and its normal in the xz plane
+    if (s <= flat)
+    {
+      c[0] = s;
+      c[1] = 0;
+      nn[0] = 0;
+      nn[1] = 1;
+    }
+    else if (s <= flat + arc)
+    {
+      const double t = (s - flat) / bend;
+      c[0] = flat + bend * std::sin(t);
+      c[1] = bend - bend * std::cos(t);
+      nn[0] = -std::sin(t);
+      nn[1] = std::cos(t);
+    }
+    else
+    {
+      c[0] = flat - (s - flat - arc);
+      c[1] = 2 * bend;
+      nn[0] = 0;
+      nn[1] = -1;
+    }
+    x[0] = c[0] + z * nn[0];
+    x[1] = p[1];
+    x[2] = c[1] + z * nn[1];
+  });
+}
+
+/// A closed torus (ring) of radius R whose tube has radius r, nu x nv quads, outward.
+inline vtkSmartPointer<vtkPolyData> MakeRing(double R, double r, int nu, int nv)
+{
+  std::vector<double> xyz;
+  std::vector<vtkIdType> tri;
+  const double pi2 = 2 * 3.14159265358979;
+  for (int i = 0; i < nu; ++i)
+  {
+    for (int j = 0; j < nv; ++j)
+    {
+      const double u = pi2 * i / nu, v = pi2 * j / nv;
+      xyz.insert(xyz.end(), { (R + r * std::cos(v)) * std::cos(u),
+                              (R + r * std::cos(v)) * std::sin(u), r * std::sin(v) });
+    }
+  }
+  auto id = [nu, nv](int i, int j) { return vtkIdType((i % nu) * nv + (j % nv)); };
+  for (int i = 0; i < nu; ++i)
+  {
+    for (int j = 0; j < nv; ++j)
+    {
+      const vtkIdType a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      tri.insert(tri.end(), { a, b, c, a, c, d });
+    }
+  }
+  return MakeMesh(xyz, tri);
 }
 
 /// Random open triangle soup in the unit cube (for invariants that do not need closure).

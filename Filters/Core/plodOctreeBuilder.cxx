@@ -1010,19 +1010,17 @@ bool MeshBuild::ComputeCells()
     }
     return std::make_pair(lo, hi);
   };
-  // the passing triangles of a node: axis weight (a third of the area), normals, material
-  auto addPassing = [&](int64_t node, CellSums& s, std::vector<std::array<double, 3>>& normals,
-                      Range& d, Range& sp) {
+  // the triangles that pass through a node without a corner in it: they widen its cone and
+  // its material range; they do not weigh in its axis (they would be counted again in every
+  // cell they cross, and tilt the axes of the cells above)
+  auto addPassing = [&](int64_t node, std::vector<std::array<double, 3>>& normals, Range& d,
+                      Range& sp) {
     const auto range = passRange(node);
     for (auto it = range.first; it != range.second; ++it)
     {
       double n[3];
-      const double area = this->Face(it->second, n);
-      if (area > 0)
+      if (this->Face(it->second, n) > 0)
       {
-        for (int a = 0; a < 3; ++a)
-          s.N[a] += area / 3.0 * n[a];
-        s.W += area / 3.0;
         normals.push_back({ n[0], n[1], n[2] });
       }
       this->TriangleMaterial(it->second, d, sp);
@@ -1094,7 +1092,7 @@ bool MeshBuild::ComputeCells()
             this->TriangleMaterial(t, d, sp);
           }
         }
-        addPassing(leaf, s, normals, d, sp);
+        addPassing(leaf, normals, d, sp);
         double axis[3];
         const bool valid = NormaliseAxis(s.N, s.W, axis);
         const double theta = valid ? std::min(Pi, widest(axis, normals)) : Pi;
@@ -1146,7 +1144,7 @@ bool MeshBuild::ComputeCells()
           d.Add(&o.Diffuse[2 * ch]);
           sp.Add(&o.Specular[2 * ch]);
         }
-        addPassing(node, s, normals, d, sp);
+        addPassing(node, normals, d, sp);
         double axis[3];
         const bool valid = NormaliseAxis(s.N, s.W, axis);
         double theta = EnclosingConeAngle(axis, valid, childAxis, childAngle, children);
@@ -1261,6 +1259,21 @@ bool MeshBuild::ComputeTopology()
       }
     }
   });
+  // uses of each edge: once on the boundary, twice inside a manifold
+  for (int64_t p = 0; p < this->Points; ++p)
+  {
+    for (int64_t i = start[p]; i < start[p + 1];)
+    {
+      int64_t j = i + 1;
+      while (j < start[p + 1] && to[j] == to[i])
+      {
+        ++j;
+      }
+      this->R.NumberOfBoundaryEdges += (j - i == 1) ? 1 : 0;
+      this->R.NumberOfNonManifoldEdges += (j - i > 2) ? 1 : 0;
+      i = j;
+    }
+  }
   for (uint8_t l : level)
   {
     if (l != 255)

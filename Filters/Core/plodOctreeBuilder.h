@@ -40,12 +40,15 @@
  * 6. cells a triangle passes through without a corner inside (so that cones hold every normal
  *    of the surface that meets the cell): a descent from the lowest node holding the whole
  *    triangle, into existing children only, bounded by the cells the triangle really meets;
- * 7. leaves: normal cone (axis: area-weighted mean normal of the triangles that meet the cell,
- *    each counted by its share of corners inside, at least one third; angle: largest angle to
- *    any of them), plane quadric, vertex (QEF or mean rule), material bounds;
- * 8. coarser levels: area-weighted axis, SRCC eq. (2) for the angle over the children's cones
+ * 7. leaves: normal cone (axis: area-weighted mean normal of the triangles at the cell's points,
+ *    each weighted by its share of corners inside; angle: the largest angle to the normal of
+ *    any triangle that meets the cell, including those that only pass through it), plane
+ *    quadric, vertex (QEF or mean rule), material bounds;
+ * 8. coarser levels: area-weighted axis (the children's sums: every triangle counts its area
+ *    once at the cell holding it whole), SRCC eq. (2) for the angle over the children's cones
  *    (widened by the triangles that meet the cell where it has no child), quadric sums, vertex,
- *    material;
+ *    material. Eq. (2) bounds loosely where children's axes differ (a roof's ridge: 1.16 rad at
+ *    the root where the slopes are 0.46 rad from vertical); it is the paper's rule, kept;
  * 9. shape error, SRCC eq. (3), over every point inside the cell;
  * 10. topology flags.
  * Point clouds first become a mesh: normals (given, or by PCA oriented towards the scanner), a
@@ -157,6 +160,8 @@ struct BuildResult
   int64_t NumberOfDegenerateTriangles = 0; // a point repeated
   int64_t NumberOfNonFinitePoints = 0;
   int64_t NumberOfUnsafeNodes = 0; // nodes without NodeTopologySafe
+  int64_t NumberOfBoundaryEdges = 0;    // edges used by one triangle
+  int64_t NumberOfNonManifoldEdges = 0; // edges used by more than two
   double EstimatedBytes = 0;       // estimated peak of the build's own memory
 };
 

@@ -9,13 +9,52 @@
 namespace plod
 {
 
+namespace
+{
+/// True when the triangle of representatives `rep` is turned over: its face normal opposes the
+/// normals of all three corners.
+bool TurnedOver(const OctreeView& v, const int64_t rep[3])
+{
+  const float* x[3];
+  const float* n[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    if (rep[k] >= 0)
+    {
+      x[k] = &v.Vertex[3 * rep[k]];
+      n[k] = &v.ConeAxis[3 * rep[k]];
+    }
+    else
+    {
+      x[k] = &v.Points[3 * (-1 - rep[k])];
+      n[k] = &v.Normals[3 * (-1 - rep[k])];
+    }
+  }
+  const double e1[3] = { double(x[1][0]) - x[0][0], double(x[1][1]) - x[0][1],
+    double(x[1][2]) - x[0][2] };
+  const double e2[3] = { double(x[2][0]) - x[0][0], double(x[2][1]) - x[0][1],
+    double(x[2][2]) - x[0][2] };
+  const double f[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+    e1[0] * e2[1] - e1[1] * e2[0] };
+  for (int k = 0; k < 3; ++k)
+  {
+    if (f[0] * n[k][0] + f[1] * n[k][1] + f[2] * n[k][2] >= 0)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+}
+
 bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
-  PatchResult& out, std::string* why, PatchWorkspace* workspace)
+  PatchResult& out, std::string* why, PatchWorkspace* workspace, const PatchOptions& options)
 {
   out.PointSource.clear();
   out.Triangles.clear();
   out.NodesVisited = 0;
   out.HiddenSkipped = 0;
+  out.FoldsDropped = 0;
   if (v.NumberOfNodes == 0)
   {
     return true;
@@ -119,6 +158,12 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
       if (!drawn && (backFacing || masks != 0))
       {
         ++out.HiddenSkipped;
+        continue;
+      }
+      if (options.DropFolds && (rep[0] >= 0 || rep[1] >= 0 || rep[2] >= 0) &&
+        TurnedOver(v, rep))
+      {
+        ++out.FoldsDropped;
         continue;
       }
       for (int k = 0; k < 3; ++k)

@@ -15,6 +15,14 @@
  * the input. A closed, consistently oriented input gives, at any cut, a set of triangles in which
  * every edge is used as often in one direction as in the other.
  *
+ * Folds: clustering turns a few triangles over (their face normal then opposes the normals of
+ * all three corners). Two-sided lighting shades them from behind, as dark specks in the middle
+ * of lit surfaces. With DropFolds (the default) such a triangle is not drawn when at least one
+ * corner is a representative vertex (input triangles are never dropped): where a surface folds
+ * over, the triangles that keep their orientation still cover it (measured on the bunny: 0.8 %
+ * of the drawn triangles, +0.8 dB). Dropping them is the one exception to the closure property
+ * below, which holds for the drawn and dropped triangles together.
+ *
  * Hidden cells: a triangle is drawn when one of its representatives is drawn. When all three are
  * hidden it is skipped if one of them faces away (its cone holds the triangle's normal, so the
  * triangle faces away too), or if all three were culled by one common frustum plane (then the
@@ -43,6 +51,13 @@ struct PatchResult
   std::vector<int64_t> Triangles; // 3 output point indices per triangle
   int64_t NodesVisited = 0;       // nodes reached by the walk
   int64_t HiddenSkipped = 0;      // owned triangles skipped among hidden cells
+  int64_t FoldsDropped = 0;       // turned-over triangles not drawn (DropFolds)
+};
+
+/// Options of GeneratePatches.
+struct PatchOptions
+{
+  bool DropFolds = true;
 };
 
 /// Buffers kept between frames so that a frame allocates (and page-faults) nothing new.
@@ -64,7 +79,8 @@ struct PatchWorkspace
  * `out`'s vectors keep their capacity between calls.
  */
 bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
-  PatchResult& out, std::string* why = nullptr, PatchWorkspace* workspace = nullptr);
+  PatchResult& out, std::string* why = nullptr, PatchWorkspace* workspace = nullptr,
+  const PatchOptions& options = PatchOptions());
 
 } // namespace plod
 

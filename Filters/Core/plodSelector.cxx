@@ -370,10 +370,21 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     }
 
     // a cell that is not a union of discs is refined while it covers more than a pixel
-    const bool unsafe = !(v.Flags[n] & NodeTopologySafe) && h * k > in.TopologyTolerance;
+    // (with the tolerances, its tolerance follows motion and foveation: DPV's infinite factor
+    // still accepts the root alone)
+    const bool unsafe =
+      !(v.Flags[n] & NodeTopologySafe) && h * k > in.TopologyTolerance * factor;
+    // a cell whose edge projects within the contour tolerance cannot show more than it: its
+    // points lie within that many pixels of its vertex (the size floor of every mode)
+    const bool small = Ts >= 0 && h * k <= Ts && !unsafe;
 
     if (!srcc)
     {
+      if (small && in.Error != ErrorModel::Distance)
+      {
+        draw(n, AcceptedSize);
+        continue;
+      }
       if (in.Error == ErrorModel::Distance)
       {
         if (level >= in.DistanceLevel && !unsafe)
@@ -430,6 +441,11 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
           hide(n, BackFacing);
         else
           draw(n, BackFacing); // an open surface: seen from behind, drawn but not refined
+        continue;
+      }
+      if (small)
+      {
+        draw(n, AcceptedSize);
         continue;
       }
       if (!(cosT > 0 && c > sinT))

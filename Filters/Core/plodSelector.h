@@ -26,10 +26,17 @@
  *    own input points and triangles (a leaf that passes is drawn at its representative vertex).
  * A tolerance of 0 accepts nothing, even a cell whose error is exactly 0 (an unlit or flat
  * cell), so that zero tolerances give the full-resolution cut: the input itself.
+ * Size floor (every mode but Distance, after the frustum and back-face tests): a cell whose
+ * edge projects to at most T_s pixels is accepted. Its points lie within about that many pixels
+ * of its vertex, so refining it cannot change the image by more than the tolerance. Without it,
+ * wide cones (noisy scans) put almost every cell "on the contour", where a shape error that
+ * spans up to the cell's diagonal drove cells below a pixel: 3.4 triangles per covered pixel
+ * on Lucy seen from afar.
  * Topology: a cell whose sub-mesh is not a union of discs (no NodeTopologySafe flag: a tube, a
  * handle) is refined, whatever its errors, while its edge projects to more than
- * TopologyTolerance pixels, because collapsing it would drop a visible part (a tube's triangles
- * all degenerate). Back-facing and culled cells are hidden first: they are not refined.
+ * TopologyTolerance pixels (times the motion and foveation factor, like the other tolerances),
+ * because collapsing it would drop a visible part (a tube's triangles all degenerate).
+ * Back-facing and culled cells are hidden first: they are not refined.
  * A cell containing the eye is always refined (its error is unbounded); the eye on a vertex
  * counts as inside.
  *
@@ -85,7 +92,8 @@ enum CutReason : uint8_t
   OpenedLeaf = 3,       // a leaf that failed a test: drawn at full resolution (CutOpen)
   Culled = 4,           // outside the view frustum (hidden)
   BackFacing = 5,       // whole cone facing away (hidden)
-  AcceptedError = 6     // SCVC, PSEC or Distance test passed
+  AcceptedError = 6,    // SCVC, PSEC or Distance test passed
+  AcceptedSize = 7      // its edge projects within the contour tolerance
 };
 
 /// A light in the octree's local coordinates (relative to its origin).

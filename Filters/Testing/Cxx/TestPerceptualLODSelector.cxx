@@ -3,7 +3,7 @@
 // eq. 7 and its one-line form, the specular term, contour classes, TMM on contour and
 // brightness, IPV/DPV, Wang & Sato, Cheng), invariants over random views, extremes, bad input.
 #include "plodOctree.h"
-#include "plodPatches.h"
+#include "plodCut.h"
 #include "plodSelector.h"
 #include "plodTestUtilities.h"
 
@@ -42,7 +42,9 @@ struct Tiny
   float Shape[2] = { 0.01f, 0.0f };
   float Diffuse[4] = { 1, 1, 1, 1 };
   float Specular[4] = { 0, 0, 0, 0 };
-  uint32_t Edges[2] = { 0, 0 };
+  uint8_t Flags[2] = { plod::NodeTopologySafe, plod::NodeTopologySafe };
+  int32_t FirstPoint[2] = { 0, 0 };
+  int64_t FirstTriangle[2] = { 0, 0 };
   plod::OctreeView View()
   {
     plod::OctreeView v;
@@ -59,7 +61,9 @@ struct Tiny
     v.ShapeError = Shape;
     v.Diffuse = Diffuse;
     v.Specular = Specular;
-    v.Edges = Edges;
+    v.Flags = Flags;
+    v.FirstPoint = FirstPoint;
+    v.FirstTriangle = FirstTriangle;
     return v;
   }
   /// Reason of the root after one selection (ReasonNone when it was refined).
@@ -69,7 +73,7 @@ struct Tiny
     s.SetOctree(this->View());
     uint8_t state[2] = { 0, 0 }, reason[2] = { 0, 0 };
     plod::SelectionStats stats;
-    s.Select(in, state, reason, stats);
+    s.Select(in, state, reason, nullptr, stats);
     if (childReason)
       *childReason = reason[1];
     return reason[0];
@@ -185,7 +189,7 @@ TEST(PerceptualLODSelector, ContourClassification)
     sel.SetOctree(t.View());
     uint8_t state[2] = { 0, 0 }, reason[2] = { 0, 0 };
     plod::SelectionStats stats;
-    sel.Select(open, state, reason, stats);
+    sel.Select(open, state, reason, nullptr, stats);
     EXPECT_EQ(state[0], plod::CutDrawn);
     EXPECT_EQ(reason[0], plod::BackFacing);
     EXPECT_EQ(state[1], plod::NotInCut);
@@ -261,12 +265,12 @@ TEST(PerceptualLODSelector, WangSatoLevelRule)
   // limit = 2 n0 sin(theta/2) D / N = 2 * 1 * sin(30 deg) * 10 / 1000 = 0.01: the coarsest
   // level with 2^-L <= 0.01 is 7 (0.0078125)
   EXPECT_EQ(plod::DistanceLevel(1.0, 10, 1.0, Pi / 3, 10.0, 1000), 7);
-  // twice as far: one level coarser; a finest level of 5 caps it
+  // twice as far: one level coarser; finer than a finest level of 5: every leaf opened (6)
   EXPECT_EQ(plod::DistanceLevel(1.0, 10, 1.0, Pi / 3, 20.0, 1000), 6);
-  EXPECT_EQ(plod::DistanceLevel(1.0, 5, 1.0, Pi / 3, 10.0, 1000), 5);
-  // very far: the root; at distance 0: the finest level
+  EXPECT_EQ(plod::DistanceLevel(1.0, 5, 1.0, Pi / 3, 10.0, 1000), 6);
+  // very far: the root; at distance 0: the input (every leaf opened)
   EXPECT_EQ(plod::DistanceLevel(1.0, 10, 1.0, Pi / 3, 1e9, 1000), 0);
-  EXPECT_EQ(plod::DistanceLevel(1.0, 10, 1.0, Pi / 3, 0.0, 1000), 10);
+  EXPECT_EQ(plod::DistanceLevel(1.0, 10, 1.0, Pi / 3, 0.0, 1000), 11);
 }
 
 TEST(PerceptualLODSelector, ChengFoveationThreshold)
@@ -562,7 +566,7 @@ TEST(PerceptualLODSelector, Extremes)
     if (home >= 0)
     {
       const auto reason = p.Array(vtkPerceptualLODSelector::CutReasonArrayName());
-      EXPECT_EQ(reason[home], plod::AcceptedFinest);
+      EXPECT_EQ(reason[home], plod::OpenedLeaf);
     }
   }
   // 1e9 units away: the root alone
@@ -596,7 +600,12 @@ TEST(PerceptualLODSelector, Extremes)
   p.Selector->SetContourTolerance(1e300);
   p.Selector->SetBrightnessTolerance(HUGE_VAL);
   p.Cut();
+  EXPECT_GT(p.Selector->GetNumberOfCutNodes(), 1) << "the closed surface's root is no disc";
+  p.Selector->SetTopologyTolerance(HUGE_VAL);
+  p.Cut();
   EXPECT_EQ(p.Selector->GetNumberOfCutNodes(), 1);
+  EXPECT_NE(std::string(p.Selector->GetEmptyCutReason()).find("root alone"), std::string::npos);
+  p.Selector->SetTopologyTolerance(1);
   // t_m = 0 with micro motion: no motion, no division by zero
   p.Selector->SetContourTolerance(1);
   p.Selector->SetBrightnessTolerance(4);

@@ -21,9 +21,9 @@ def sphere(resolution=48):
 
 
 class ErrorCatcher:
-    def __init__(self, obj):
+    def __init__(self, obj, event=vtkCommand.ErrorEvent):
         self.messages = []
-        obj.AddObserver(vtkCommand.ErrorEvent, self.on_error)
+        obj.AddObserver(event, self.on_error)
 
     def on_error(self, caller, event, data=None):
         self.messages.append(str(data))
@@ -71,25 +71,50 @@ class TestBuilder(unittest.TestCase):
         builder.Update()
         self.assertEqual(builder.GetOutput().GetMTime(), t)
 
-    def test_nan_input_is_an_error(self):
+    def test_nan_points_skip_their_triangles_with_a_warning(self):
         points = vtkPoints()
-        for p in [(0, 0, 0), (1, 0, 0), (0, float('nan'), 0)]:
+        for p in [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, float('nan'), 0)]:
             points.InsertNextPoint(p)
         cells = vtkCellArray()
         cells.InsertNextCell(3, [0, 1, 2])
+        cells.InsertNextCell(3, [0, 1, 3])
         mesh = vtkPolyData()
         mesh.SetPoints(points)
         mesh.SetPolys(cells)
         builder = vtkMultiscaleOctreeBuilder()
-        errors = ErrorCatcher(builder)
+        warnings = ErrorCatcher(builder, vtkCommand.WarningEvent)
         builder.SetInputData(mesh)
         builder.Update()
-        self.assertTrue(any('NaN or infinite' in m for m in errors.messages), errors.messages)
+        self.assertTrue(any('NaN or infinite' in m for m in warnings.messages), warnings.messages)
+        self.assertEqual(builder.GetNumberOfInvalidTriangles(), 1)
+        self.assertEqual(builder.GetOutput().GetNumberOfSurfaceTriangles(), 1)
+        # nothing usable left: an error, an empty octree
+        cells2 = vtkCellArray()
+        cells2.InsertNextCell(3, [0, 1, 3])
+        mesh.SetPolys(cells2)
+        errors = ErrorCatcher(builder)
+        builder.Update()
+        self.assertTrue(any('no usable triangle' in m for m in errors.messages), errors.messages)
         self.assertEqual(builder.GetOutput().GetNumberOfNodes(), 0)
+
+    def test_surface_is_the_input(self):
+        source = sphere(30)
+        source.Update()
+        builder = vtkMultiscaleOctreeBuilder()
+        builder.SetInputConnection(source.GetOutputPort())
+        builder.Update()
+        octree = builder.GetOutput()
+        surface = octree.GetSurfaceData()
+        ids = vtk_to_numpy(surface.GetArray('InputPointId'))
+        points = vtk_to_numpy(surface.GetArray('Points')) + np.array(octree.GetOrigin())
+        triangles = vtk_to_numpy(surface.GetArray('Triangles'))
+        original = vtk_to_numpy(source.GetOutput().GetPoints().GetData())
+        np.testing.assert_allclose(points, original[ids], atol=1e-6)
+        self.assertEqual(len(triangles), source.GetOutput().GetNumberOfPolys())
+        self.assertEqual(octree.GetNumberOfBoundaryEdges(), 0)
 
     def test_modes_and_parameters(self):
         builder = vtkMultiscaleOctreeBuilder()
-        builder.SetVertexRuleToQEF()
         self.assertEqual(builder.GetVertexRule(), vtkMultiscaleOctreeBuilder.VERTEX_QEF)
         builder.SetVertexRuleToMean()
         self.assertEqual(builder.GetVertexRule(), vtkMultiscaleOctreeBuilder.VERTEX_MEAN)

@@ -5,7 +5,6 @@ import unittest
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPolyData
-from vtkmodules.vtkFiltersCore import vtkFeatureEdges
 from vtkmodules.vtkFiltersSources import vtkSphereSource
 
 from perceptual_lod import (vtkMultiscaleOctree, vtkMultiscaleOctreeBuilder,
@@ -13,14 +12,13 @@ from perceptual_lod import (vtkMultiscaleOctree, vtkMultiscaleOctreeBuilder,
 
 
 def open_edges(polydata):
-    edges = vtkFeatureEdges()
-    edges.SetInputData(polydata)
-    edges.BoundaryEdgesOn()
-    edges.NonManifoldEdgesOn()
-    edges.FeatureEdgesOff()
-    edges.ManifoldEdgesOff()
-    edges.Update()
-    return edges.GetOutput().GetNumberOfCells()
+    """Edges not used as often in both directions (cracks or orientation errors)."""
+    tris = vtk_to_numpy(polydata.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
+    sign = np.where(e[:, 0] < e[:, 1], 1, -1)
+    key = np.sort(e, axis=1)
+    uniq, inverse = np.unique(key, axis=0, return_inverse=True)
+    return int(np.count_nonzero(np.bincount(inverse.ravel(), weights=sign, minlength=len(uniq))))
 
 
 class TestPatches(unittest.TestCase):
@@ -38,8 +36,9 @@ class TestPatches(unittest.TestCase):
         patches = vtkMultiscalePatchGenerator()
         patches.SetInputConnection(cutter.GetOutputPort())
         counts = []
-        for level in range(1, 7):
+        for level in list(range(1, 7)) + [-1]:
             cutter.SetLevel(level)
+            patches.DropFoldsOff()  # every triangle of the cut: closed
             patches.Update()
             out = patches.GetOutput()
             self.assertEqual(open_edges(out), 0, f'level {level}')
@@ -66,18 +65,23 @@ class TestPatches(unittest.TestCase):
         patches = vtkMultiscalePatchGenerator()
         patches.SetInputConnection(cutter.GetOutputPort())
         patches.GenerateNodeIdsOn()
+        patches.DropFoldsOff()
         patches.Update()
         self.assertTrue(cutter.GetOutput().HasValidCut())
         out = patches.GetOutput()
-        self.assertEqual(open_edges(out), 0, 'two levels meet without a crack')
+        self.assertEqual(open_edges(out), 0, 'levels meet without a crack')
         nodes = vtk_to_numpy(out.GetPointData().GetArray('OctreeNode'))
-        self.assertEqual(set(np.unique(level[nodes])), {3, 6})
+        levels = set(np.unique(level[nodes]))
+        # coarse (3) where x < 0, the input (opened leaves, 6) where x > 0, between near x = 0
+        self.assertTrue({3, 6} <= levels <= {3, 4, 5, 6}, levels)
 
-    def test_without_cut_draws_finest(self):
+    def test_without_cut_draws_the_input(self):
         patches = vtkMultiscalePatchGenerator()
         patches.SetInputConnection(self.builder.GetOutputPort())
         patches.Update()
-        self.assertGreater(patches.GetOutput().GetNumberOfPolys(), 10000)
+        self.source.Update()
+        self.assertEqual(patches.GetOutput().GetNumberOfPolys(),
+                         self.source.GetOutput().GetNumberOfPolys())
         self.assertEqual(open_edges(patches.GetOutput()), 0)
 
 

@@ -1,0 +1,477 @@
+"""Is the LOD a faithful picture of the model? (issue 9) Measures, as a new user would see it:
+
+    PYTHONPATH=build/lib/python3/dist-packages xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \\
+        /usr/bin/python3 Testing/Quality/plod_faithful.py --out docs/results [--quick]
+
+Protocol (every view, every model):
+- 640x480, view angle 30 degrees, the renderer's automatic headlight, a grey actor (colour 0.8,
+  diffuse 0.9, specular 0.3, power 20), background pure blue (no lit grey pixel can have it);
+- the camera is reset to the model's bounds (vtkRenderer::ResetCamera(bounds)), turned by one of
+  8 azimuths (0, 45, ..., 315 degrees) and dollied: far = Dolly(0.25) (4x the reset distance),
+  mid = Dolly(1), close = Dolly(3) (a third of it: the model overflows the view);
+- the reference is the full-resolution mesh, smooth-shaded (vtkPolyDataNormals without splitting)
+  like the LOD;
+- the LOD is the ordinary pipeline: builder -> selector -> patch generator -> mapper, the
+  selector fed by vtkPerceptualLODRenderBinding from the renderer (what a user gets);
+- vtkQuadricDecimation of the full mesh to the LOD's triangle count, done once for that view
+  (the static LOD a VTK user would make instead), smooth-shaded;
+- PSNR on 8-bit luminance (plod_metrics.psnr); hole pixels: background pixels of the LOD image
+  inside the reference's object mask eroded by 3 pixels (a 7x7 square); triangles per covered
+  pixel: the LOD's triangles over the reference's object pixels.
+Also: the finest cut (every leaf opened) against the reference at mid distance, the holes at
+tolerances x8, and the trade curve (PSNR against triangles) for the default (QEF), the paper's
+mean rule, and QD at the same counts.
+
+Writes faithful.csv (one row per view and variant), trade.csv, and faithful.md (medians).
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+import time
+
+import numpy as np
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.vtkFiltersCore import (vtkAppendPolyData, vtkCleanPolyData, vtkPolyDataNormals,
+                                       vtkQuadricDecimation, vtkTriangleFilter)
+from vtkmodules.vtkFiltersSources import vtkSphereSource
+from vtkmodules.vtkIOPLY import vtkPLYReader
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer,
+                                         vtkRenderWindow, vtkWindowToImageFilter)
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plod_metrics as metrics  # noqa: E402
+import perceptual_lod as plod  # noqa: E402
+
+SIZE = (640, 480)
+DISTANCES = {'far': 0.25, 'mid': 1.0, 'close': 3.0}
+AZIMUTHS = [0, 45, 90, 135, 180, 225, 270, 315]
+BACKGROUND = (0.0, 0.0, 1.0)
+
+
+# ---- models ---------------------------------------------------------------------------------
+
+def read_ply(path):
+    reader = vtkPLYReader()
+    reader.SetFileName(path)
+    reader.Update()
+    tri = vtkTriangleFilter()
+    tri.SetInputConnection(reader.GetOutputPort())
+    tri.Update()
+    pd = vtkPolyData()
+    pd.DeepCopy(tri.GetOutput())
+    return pd
+
+
+def displaced_sphere(resolution, noise=0.25, seed=11):
+    """A closed detailed model: a UV sphere displaced by random waves."""
+    sphere = vtkSphereSource()
+    sphere.SetThetaResolution(resolution)
+    sphere.SetPhiResolution(resolution)
+    sphere.Update()
+    pd = vtkPolyData()
+    pd.DeepCopy(sphere.GetOutput())
+    rng = np.random.default_rng(seed)
+    waves = rng.uniform(-1, 1, size=(8, 4))
+    pts = vtk_to_numpy(pd.GetPoints().GetData())
+    x = pts / np.linalg.norm(pts, axis=1)[:, None]
+    r = np.ones(len(x))
+    for k, w in enumerate(waves):
+        r += noise / 8 * np.sin((1 + 2 * k) * (x @ w[:3]) + 3 * w[3])
+    pts[:] = x * r[:, None]
+    pd.GetPoints().Modified()
+    return pd
+
+
+def grid_surface(nu, nv, fn, closed_u, closed_v):
+    """A welded triangle mesh of the parametric surface fn(u, v) on [0,1]^2 (numpy arrays)."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray
+    cu = nu if closed_u else nu + 1
+    cv = nv if closed_v else nv + 1
+    u, v = np.meshgrid(np.arange(cu) / nu, np.arange(cv) / nv, indexing='ij')
+    xyz = np.stack(fn(u.ravel(), v.ravel()), axis=1)
+    idx = lambda i, j: (i % cu) * cv + (j % cv)  # noqa: E731
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing='ij')
+    i, j = i.ravel(), j.ravel()
+    a, b, c, d = idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)
+    tris = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+    pd = vtkPolyData()
+    pts = vtkPoints()
+    pts.SetData(numpy_to_vtk(np.ascontiguousarray(xyz, dtype=np.float64), deep=1))
+    pd.SetPoints(pts)
+    cells = vtkCellArray()
+    offsets = np.arange(0, 3 * len(tris) + 1, 3, dtype=np.int64)
+    cells.SetData(numpy_to_vtkIdTypeArray(offsets, deep=1),
+                  numpy_to_vtkIdTypeArray(tris.astype(np.int64).ravel(), deep=1))
+    pd.SetPolys(cells)
+    return pd
+
+
+def thin_parts_model(resolution=200):
+    """A body with thin parts: a displaced sphere, a thin wing (a flattened ellipsoid), a thin
+    ring (a torus whose tube is 1/100 of the body) and a thin spike; closed components."""
+    parts = [displaced_sphere(resolution)]
+    # wing: ellipsoid 1.6 x 0.02 x 0.5 through the body
+    parts.append(grid_surface(resolution, resolution // 2, lambda u, v: (
+        1.6 * np.cos(2 * np.pi * u) * np.sin(np.pi * v),
+        0.02 * np.sin(2 * np.pi * u) * np.sin(np.pi * v) + 0.3,
+        0.5 * np.cos(np.pi * v)), True, False))
+    # ring: torus of radius 1.3, tube 0.012, tilted
+    def torus(u, v):
+        R, r = 1.3, 0.012
+        x = (R + r * np.cos(2 * np.pi * v)) * np.cos(2 * np.pi * u)
+        y = (R + r * np.cos(2 * np.pi * v)) * np.sin(2 * np.pi * u)
+        z = r * np.sin(2 * np.pi * v)
+        return x, 0.5 * y + 0.8 * z, -0.8 * y + 0.5 * z
+    parts.append(grid_surface(4 * resolution, 12, torus, True, True))
+    # spike: a long thin cone-like ellipsoid
+    parts.append(grid_surface(resolution // 4, resolution, lambda u, v: (
+        0.015 * np.cos(2 * np.pi * u) * np.sin(np.pi * v),
+        0.9 + 0.9 * np.cos(np.pi * v),
+        0.015 * np.sin(2 * np.pi * u) * np.sin(np.pi * v)), True, False))
+    append = vtkAppendPolyData()
+    for p in parts:
+        clean = vtkCleanPolyData()
+        clean.SetInputData(p)
+        clean.Update()
+        append.AddInputData(clean.GetOutput())
+    append.Update()
+    tri = vtkTriangleFilter()
+    tri.SetInputConnection(append.GetOutputPort())
+    tri.Update()
+    pd = vtkPolyData()
+    pd.DeepCopy(tri.GetOutput())
+    return pd
+
+
+def models(data, quick):
+    out = []
+    if quick:
+        out.append(('generated-small', displaced_sphere(120)))
+        return out
+    bunny = os.path.join(data, 'bun_zipper.ply')
+    lucy = os.path.join(data, 'lucy.ply')
+    if os.path.exists(bunny):
+        out.append(('bunny', read_ply(bunny)))
+    else:
+        print('skipping the bunny: %s not found' % bunny)
+    if os.path.exists(lucy):
+        out.append(('lucy', read_ply(lucy)))
+    else:
+        print('skipping Lucy: %s not found' % lucy)
+    out.append(('generated-1M', displaced_sphere(710)))
+    out.append(('thin-parts', thin_parts_model(300)))
+    return out
+
+
+def smooth(data):
+    normals = vtkPolyDataNormals()
+    normals.SetInputData(data)
+    normals.SplittingOff()
+    normals.Update()
+    out = vtkPolyData()
+    out.DeepCopy(normals.GetOutput())
+    return out
+
+
+# ---- rendering ------------------------------------------------------------------------------
+
+def grey_actor(mapper):
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    prop = actor.GetProperty()
+    prop.SetColor(0.8, 0.8, 0.8)
+    prop.SetDiffuse(0.9)
+    prop.SetSpecular(0.3)
+    prop.SetSpecularPower(20)
+    return actor
+
+
+class Scene:
+    """A model, its octree and LOD pipeline bound to a renderer, and its reference."""
+
+    def __init__(self, model, rule=None):
+        self.model = model
+        self.full = smooth(model)
+        self.bounds = model.GetBounds()
+        self.builder = plod.vtkMultiscaleOctreeBuilder()
+        self.builder.SetInputData(model)
+        if rule == 'mean':
+            self.builder.SetVertexRuleToMean()
+        elif rule == 'qef':
+            self.builder.SetVertexRuleToQEF()
+        t0 = time.perf_counter()
+        self.builder.Update()
+        self.build_s = time.perf_counter() - t0
+        self.selector = plod.vtkPerceptualLODSelector()
+        self.selector.SetInputConnection(self.builder.GetOutputPort())
+        self.patches = plod.vtkMultiscalePatchGenerator()
+        self.patches.SetInputConnection(self.selector.GetOutputPort())
+        self.lod_mapper = vtkPolyDataMapper()
+        self.lod_mapper.SetInputConnection(self.patches.GetOutputPort())
+        self.lod_actor = grey_actor(self.lod_mapper)
+        self.ref_mapper = vtkPolyDataMapper()
+        self.ref_mapper.SetInputData(self.full)
+        self.ref_actor = grey_actor(self.ref_mapper)
+        self.renderer = vtkRenderer()
+        self.renderer.SetBackground(*BACKGROUND)
+        self.window = vtkRenderWindow()
+        self.window.SetOffScreenRendering(1)
+        self.window.SetSize(*SIZE)
+        self.window.AddRenderer(self.renderer)
+        self.binding = plod.vtkPerceptualLODRenderBinding()
+        self.binding.SetRenderer(self.renderer)
+        self.binding.SetSelector(self.selector)
+        self.binding.SetProp3D(self.lod_actor)
+        self.binding.EnabledOff()
+
+    def view(self, azimuth, dolly):
+        camera = self.renderer.GetActiveCamera()
+        camera.SetPosition(0, 0, 1)
+        camera.SetFocalPoint(0, 0, 0)
+        camera.SetViewUp(0, 1, 0)
+        camera.SetViewAngle(30)
+        self.renderer.ResetCamera(self.bounds)
+        camera.Azimuth(azimuth)
+        camera.Dolly(dolly)
+        self.renderer.ResetCameraClippingRange(self.bounds)
+
+    def grab(self):
+        self.window.Render()
+        grab = vtkWindowToImageFilter()
+        grab.SetInput(self.window)
+        grab.ReadFrontBufferOff()
+        grab.Update()
+        img = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars())
+        return img.reshape(SIZE[1], SIZE[0], -1)[..., :3].copy()
+
+    def render_actor(self, actor):
+        self.renderer.RemoveAllViewProps()
+        self.renderer.AddActor(actor)
+        return self.grab()
+
+    def render_lod(self, scale=1.0):
+        self.selector.SetContourTolerance(scale)
+        self.selector.SetBrightnessTolerance(4 * scale)
+        self.renderer.RemoveAllViewProps()
+        self.renderer.AddActor(self.lod_actor)
+        self.binding.EnabledOn()
+        img = self.grab()
+        self.binding.EnabledOff()
+        return img, self.patches.GetNumberOfTriangles()
+
+    def render_data(self, data):
+        mapper = vtkPolyDataMapper()
+        mapper.SetInputData(data)
+        return self.render_actor(grey_actor(mapper))
+
+
+def is_background(img):
+    return (img[..., 0] == 0) & (img[..., 1] == 0) & (img[..., 2] == 255)
+
+
+def erode(mask, r):
+    """Binary erosion by a (2r+1)^2 square (outside the image counts as background)."""
+    m = mask.copy()
+    for axis in (0, 1):
+        out = m.copy()
+        for s in range(1, r + 1):
+            for sign in (1, -1):
+                shifted = np.zeros_like(m)
+                if axis == 0:
+                    if sign > 0:
+                        shifted[s:] = m[:-s]
+                    else:
+                        shifted[:-s] = m[s:]
+                else:
+                    if sign > 0:
+                        shifted[:, s:] = m[:, :-s]
+                    else:
+                        shifted[:, :-s] = m[:, s:]
+                out &= shifted
+        m = out
+    return m
+
+
+def lum(img):
+    return metrics.luminance(img)
+
+
+def decimated(full, target):
+    dec = vtkQuadricDecimation()
+    dec.SetInputData(full)
+    dec.SetTargetReduction(max(0.0, min(0.9999, 1.0 - target / full.GetNumberOfPolys())))
+    dec.Update()
+    return smooth(dec.GetOutput()), dec.GetOutput().GetNumberOfPolys()
+
+
+# ---- measurements ---------------------------------------------------------------------------
+
+def measure_views(name, scene, writer, scales=(1.0, 8.0), with_qd=True):
+    rows = []
+    for dname, dolly in DISTANCES.items():
+        for az in AZIMUTHS:
+            scene.view(az, dolly)
+            ref = scene.render_actor(scene.ref_actor)
+            ref_mask = ~is_background(ref)
+            inner = erode(ref_mask, 3)
+            covered = int(ref_mask.sum())
+            for scale in scales:
+                img, tris = scene.render_lod(scale)
+                holes = int((inner & is_background(img)).sum())
+                row = dict(model=name, distance=dname, azimuth=az, scale=scale, triangles=tris,
+                           psnr=metrics.psnr(lum(ref), lum(img)), holes=holes, covered=covered,
+                           tri_per_px=tris / max(1, covered),
+                           select_ms=scene.selector.GetSelectTime() * 1e3,
+                           patch_ms=scene.patches.GetGenerateTime() * 1e3,
+                           qd_triangles='', qd_psnr='', qd_holes='')
+                if with_qd and scale == 1.0 and tris > 0:
+                    qd, qd_tris = decimated(scene.full, tris)
+                    qimg = scene.render_data(qd)
+                    row['qd_triangles'] = qd_tris
+                    row['qd_psnr'] = metrics.psnr(lum(ref), lum(qimg))
+                    row['qd_holes'] = int((inner & is_background(qimg)).sum())
+                writer.writerow(row)
+                rows.append(row)
+                print('%-14s %-5s az %3d x%-3g tris %7d psnr %6.2f qd %6s holes %4d tri/px %.3f' % (
+                    name, dname, az, scale, tris, row['psnr'],
+                    '%.2f' % row['qd_psnr'] if row['qd_psnr'] != '' else '-', holes,
+                    row['tri_per_px']), flush=True)
+    return rows
+
+
+def measure_finest(name, scene, writer):
+    """The finest cut (every leaf opened) against the reference at mid distance."""
+    cutter = plod.vtkMultiscaleOctreeCutter()
+    cutter.SetInputConnection(scene.builder.GetOutputPort())
+    cutter.SetLevel(-1)
+    patches = plod.vtkMultiscalePatchGenerator()
+    patches.SetInputConnection(cutter.GetOutputPort())
+    patches.Update()
+    finest = vtkPolyData()
+    finest.DeepCopy(patches.GetOutput())
+    rows = []
+    for az in AZIMUTHS:
+        scene.view(az, DISTANCES['mid'])
+        ref = scene.render_actor(scene.ref_actor)
+        img = scene.render_data(finest)
+        row = dict(model=name, distance='mid', azimuth=az, scale='finest',
+                   triangles=finest.GetNumberOfPolys(), psnr=metrics.psnr(lum(ref), lum(img)),
+                   holes=int((erode(~is_background(ref), 3) & is_background(img)).sum()),
+                   covered=int((~is_background(ref)).sum()), tri_per_px='', select_ms='',
+                   patch_ms=patches.GetGenerateTime() * 1e3, qd_triangles='', qd_psnr='',
+                   qd_holes='')
+        writer.writerow(row)
+        rows.append(row)
+    print('%-14s finest: %d triangles (input %d), PSNR median %.2f dB' % (
+        name, finest.GetNumberOfPolys(), scene.model.GetNumberOfPolys(),
+        np.median([r['psnr'] for r in rows])), flush=True)
+    return rows
+
+
+def trade_curve(name, scenes, writer, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
+    """PSNR against triangles at mid distance (azimuth 0 and 90) for each vertex rule and QD."""
+    for az in (0, 90):
+        for rule, scene in scenes.items():
+            scene.view(az, DISTANCES['mid'])
+            ref = scene.render_actor(scene.ref_actor)
+            for scale in scales:
+                img, tris = scene.render_lod(scale)
+                writer.writerow(dict(model=name, azimuth=az, method=rule, scale=scale,
+                                     triangles=tris, psnr=metrics.psnr(lum(ref), lum(img))))
+                if rule == 'qef' and tris > 0:
+                    qd, qd_tris = decimated(scene.full, tris)
+                    qimg = scene.render_data(qd)
+                    writer.writerow(dict(model=name, azimuth=az, method='QD', scale=scale,
+                                         triangles=qd_tris,
+                                         psnr=metrics.psnr(lum(ref), lum(qimg))))
+
+
+def summary(rows, trade_rows, out):
+    def med(values):
+        values = [v for v in values if v != '' and v is not None and not
+                  (isinstance(v, float) and math.isinf(v))]
+        return float(np.median(values)) if values else float('nan')
+    lines = ['# Faithful surface: measured (issue 9)', '',
+             'Made by `Testing/Quality/plod_faithful.py` (its docstring gives the protocol). '
+             'Medians over 8 azimuths.', '',
+             '| model | distance | LOD triangles | LOD PSNR | QD PSNR | LOD - QD (dB) | '
+             'hole px (max) | hole px x8 (max) | triangles / covered px |',
+             '| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |']
+    models_seen = []
+    for r in rows:
+        if r['model'] not in models_seen:
+            models_seen.append(r['model'])
+    for m in models_seen:
+        for d in DISTANCES:
+            base = [r for r in rows if r['model'] == m and r['distance'] == d and r['scale'] == 1.0]
+            x8 = [r for r in rows if r['model'] == m and r['distance'] == d and r['scale'] == 8.0]
+            if not base:
+                continue
+            diff = [r['psnr'] - r['qd_psnr'] for r in base if r['qd_psnr'] != '']
+            lines.append('| %s | %s | %d | %.2f | %.2f | %+.2f | %d | %s | %.3f |' % (
+                m, d, med([r['triangles'] for r in base]), med([r['psnr'] for r in base]),
+                med([r['qd_psnr'] for r in base]), med(diff),
+                max(r['holes'] for r in base),
+                str(max(r['holes'] for r in x8)) if x8 else '-',
+                med([r['tri_per_px'] for r in base])))
+    fin = [r for r in rows if r['scale'] == 'finest']
+    if fin:
+        lines += ['', '| model | finest cut triangles | PSNR against the input, mid (median) | '
+                  'hole px (max) |', '| --- | ---: | ---: | ---: |']
+        for m in models_seen:
+            f = [r for r in fin if r['model'] == m]
+            if f:
+                p = med([r['psnr'] for r in f])
+                lines.append('| %s | %d | %s | %d |' % (
+                    m, f[0]['triangles'], 'identical (inf)' if math.isnan(p) else '%.2f' % p,
+                    max(r['holes'] for r in f)))
+    with open(os.path.join(out, 'faithful.md'), 'w') as f:
+        f.write('\n'.join(lines) + '\n')
+    print('\n'.join(lines))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument('--out', default='docs/results')
+    ap.add_argument('--data', default=os.environ.get('PLOD_DATA_DIR', os.path.join(
+        os.path.dirname(os.path.abspath(__file__)), '..', '..', '..', 'shared', 'data')))
+    ap.add_argument('--quick', action='store_true')
+    ap.add_argument('--models', default='')
+    ap.add_argument('--no-trade', action='store_true')
+    ap.add_argument('--tag', default='', help='suffix of the output files')
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    fields = ['model', 'distance', 'azimuth', 'scale', 'triangles', 'psnr', 'holes', 'covered',
+              'tri_per_px', 'select_ms', 'patch_ms', 'qd_triangles', 'qd_psnr', 'qd_holes']
+    all_rows = []
+    trade_rows = []
+    with open(os.path.join(args.out, 'faithful%s.csv' % args.tag), 'w', newline='') as f, \
+            open(os.path.join(args.out, 'trade%s.csv' % args.tag), 'w', newline='') as g:
+        writer = csv.DictWriter(f, fieldnames=fields)
+        writer.writeheader()
+        trade = csv.DictWriter(g, fieldnames=['model', 'azimuth', 'method', 'scale', 'triangles',
+                                              'psnr'])
+        trade.writeheader()
+        for name, model in models(args.data, args.quick):
+            if args.models and name not in args.models.split(','):
+                continue
+            scene = Scene(model)
+            print('%s: %d triangles, octree %d nodes, level %d, built in %.2f s' % (
+                name, model.GetNumberOfPolys(), scene.builder.GetOutput().GetNumberOfNodes(),
+                scene.builder.GetOutput().GetFinestLevel(), scene.build_s), flush=True)
+            all_rows += measure_views(name, scene, writer, with_qd=True)
+            if hasattr(scene.builder.GetOutput(), 'GetNumberOfSurfaceTriangles'):
+                all_rows += measure_finest(name, scene, writer)
+            if not args.no_trade and not args.quick:
+                trade_curve(name, {'qef': scene, 'mean': Scene(model, 'mean')}, trade)
+    summary(all_rows, trade_rows, args.out)
+
+
+if __name__ == '__main__':
+    main()
