@@ -39,6 +39,7 @@ ArrayT* FetchArray(vtkFieldData* fd, const char* name, int comps, vtkIdType n)
 vtkMultiscaleOctree::vtkMultiscaleOctree()
   : NodeData(vtkFieldData::New())
   , SurfaceData(vtkFieldData::New())
+  , ClusterData(vtkFieldData::New())
   , RootEdge(1.0)
   , FinestLevel(0)
   , HasMaterialArrays(false)
@@ -51,6 +52,7 @@ vtkMultiscaleOctree::~vtkMultiscaleOctree()
 {
   this->NodeData->Delete();
   this->SurfaceData->Delete();
+  this->ClusterData->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -59,6 +61,7 @@ void vtkMultiscaleOctree::Initialize()
   this->Superclass::Initialize();
   this->NodeData->Initialize();
   this->SurfaceData->Initialize();
+  this->ClusterData->Initialize();
   this->Origin[0] = this->Origin[1] = this->Origin[2] = 0.0;
   this->RootEdge = 1.0;
   this->FinestLevel = 0;
@@ -75,6 +78,7 @@ void vtkMultiscaleOctree::ShallowCopy(vtkDataObject* src)
   {
     this->NodeData->ShallowCopy(o->NodeData);
     this->SurfaceData->ShallowCopy(o->SurfaceData);
+    this->ClusterData->ShallowCopy(o->ClusterData);
     std::copy(o->Origin, o->Origin + 3, this->Origin);
     this->RootEdge = o->RootEdge;
     this->FinestLevel = o->FinestLevel;
@@ -98,6 +102,7 @@ void vtkMultiscaleOctree::DeepCopy(vtkDataObject* src)
   {
     this->NodeData->DeepCopy(o->NodeData);
     this->SurfaceData->DeepCopy(o->SurfaceData);
+    this->ClusterData->DeepCopy(o->ClusterData);
     std::copy(o->Origin, o->Origin + 3, this->Origin);
     this->RootEdge = o->RootEdge;
     this->FinestLevel = o->FinestLevel;
@@ -113,7 +118,7 @@ void vtkMultiscaleOctree::DeepCopy(vtkDataObject* src)
 unsigned long vtkMultiscaleOctree::GetActualMemorySize()
 {
   return this->Superclass::GetActualMemorySize() + this->NodeData->GetActualMemorySize() +
-    this->SurfaceData->GetActualMemorySize();
+    this->SurfaceData->GetActualMemorySize() + this->ClusterData->GetActualMemorySize();
 }
 
 //------------------------------------------------------------------------------
@@ -127,6 +132,13 @@ vtkIdType vtkMultiscaleOctree::GetNumberOfNodes()
 vtkIdType vtkMultiscaleOctree::GetNumberOfSurfacePoints()
 {
   vtkAbstractArray* a = this->SurfaceData->GetAbstractArray(PointsArrayName());
+  return a ? a->GetNumberOfTuples() : 0;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkMultiscaleOctree::GetNumberOfClusters()
+{
+  vtkAbstractArray* a = this->ClusterData->GetAbstractArray(ClusterNodeArrayName());
   return a ? a->GetNumberOfTuples() : 0;
 }
 
@@ -157,6 +169,7 @@ void vtkMultiscaleOctree::Allocate(vtkIdType nodes, vtkIdType points, vtkIdType 
 {
   this->NodeData->Initialize();
   this->SurfaceData->Initialize();
+  this->ClusterData->Initialize();
   auto add = [](vtkFieldData* fd, vtkDataArray* a, const char* name, int comps, vtkIdType n) {
     a->SetName(name);
     a->SetNumberOfComponents(comps);
@@ -176,14 +189,35 @@ void vtkMultiscaleOctree::Allocate(vtkIdType nodes, vtkIdType points, vtkIdType 
   add(fd, vtkFloatArray::New(), DiffuseRangeArrayName(), 2, nodes);
   add(fd, vtkFloatArray::New(), SpecularRangeArrayName(), 2, nodes);
   add(fd, vtkUnsignedCharArray::New(), FlagsArrayName(), 1, nodes);
+  add(fd, vtkFloatArray::New(), ThicknessArrayName(), 1, nodes);
   add(fd, vtkIntArray::New(), FirstPointArrayName(), 1, nodes);
   add(fd, vtkIdTypeArray::New(), FirstTriangleArrayName(), 1, nodes);
+  add(fd, vtkIntArray::New(), FirstClusterArrayName(), 1, nodes);
   fd = this->SurfaceData;
   add(fd, vtkFloatArray::New(), PointsArrayName(), 3, points);
   add(fd, vtkFloatArray::New(), NormalsArrayName(), 3, points);
   add(fd, vtkIntArray::New(), PointLeafArrayName(), 1, points);
+  add(fd, vtkIntArray::New(), PointClusterArrayName(), 1, points);
   add(fd, vtkIdTypeArray::New(), InputPointIdArrayName(), 1, points);
   add(fd, vtkIntArray::New(), TrianglesArrayName(), 3, triangles);
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctree::AllocateClusters(vtkIdType clusters)
+{
+  this->ClusterData->Initialize();
+  auto add = [this, clusters](vtkDataArray* a, const char* name, int comps) {
+    a->SetName(name);
+    a->SetNumberOfComponents(comps);
+    a->SetNumberOfTuples(clusters);
+    this->ClusterData->AddArray(a);
+    a->Delete();
+  };
+  add(vtkIntArray::New(), ClusterNodeArrayName(), 1);
+  add(vtkIntArray::New(), ClusterParentArrayName(), 1);
+  add(vtkFloatArray::New(), ClusterVertexArrayName(), 3);
+  add(vtkFloatArray::New(), ClusterNormalArrayName(), 3);
   this->Modified();
 }
 
@@ -205,21 +239,37 @@ bool vtkMultiscaleOctree::GetArrays(plod::OctreeArrays& out)
   auto* diffuse = FetchArray<vtkFloatArray>(fd, DiffuseRangeArrayName(), 2, n);
   auto* specular = FetchArray<vtkFloatArray>(fd, SpecularRangeArrayName(), 2, n);
   auto* flags = FetchArray<vtkUnsignedCharArray>(fd, FlagsArrayName(), 1, n);
+  auto* thickness = FetchArray<vtkFloatArray>(fd, ThicknessArrayName(), 1, n);
   auto* firstPoint = FetchArray<vtkIntArray>(fd, FirstPointArrayName(), 1, n);
   auto* firstTriangle = FetchArray<vtkIdTypeArray>(fd, FirstTriangleArrayName(), 1, n);
+  auto* firstCluster = FetchArray<vtkIntArray>(fd, FirstClusterArrayName(), 1, n);
   const vtkIdType np = this->GetNumberOfSurfacePoints();
   const vtkIdType nt = this->GetNumberOfSurfaceTriangles();
   fd = this->SurfaceData;
   auto* points = FetchArray<vtkFloatArray>(fd, PointsArrayName(), 3, np);
   auto* normals = FetchArray<vtkFloatArray>(fd, NormalsArrayName(), 3, np);
   auto* leaf = FetchArray<vtkIntArray>(fd, PointLeafArrayName(), 1, np);
+  auto* pointCluster = FetchArray<vtkIntArray>(fd, PointClusterArrayName(), 1, np);
   auto* ids = FetchArray<vtkIdTypeArray>(fd, InputPointIdArrayName(), 1, np);
   auto* triangles = FetchArray<vtkIntArray>(fd, TrianglesArrayName(), 3, nt);
   if (!level || !parent || !first || !mask || !vertex || !axis || !angle || !shape ||
-    !diffuse || !specular || !flags || !firstPoint || !firstTriangle || !points || !normals ||
-    !leaf || !ids || !triangles)
+    !diffuse || !specular || !flags || !thickness || !firstPoint || !firstTriangle ||
+    !firstCluster || !points || !normals || !leaf || !pointCluster || !ids || !triangles)
   {
     return false;
+  }
+  // the cluster arrays come later in a build: absent, their pointers stay null
+  const vtkIdType nc = this->GetNumberOfClusters();
+  auto* cnode = FetchArray<vtkIntArray>(this->ClusterData, ClusterNodeArrayName(), 1, nc);
+  auto* cparent = FetchArray<vtkIntArray>(this->ClusterData, ClusterParentArrayName(), 1, nc);
+  auto* cvertex = FetchArray<vtkFloatArray>(this->ClusterData, ClusterVertexArrayName(), 3, nc);
+  auto* cnormal = FetchArray<vtkFloatArray>(this->ClusterData, ClusterNormalArrayName(), 3, nc);
+  if (cnode && cparent && cvertex && cnormal)
+  {
+    out.ClusterNode = cnode->GetPointer(0);
+    out.ClusterParent = cparent->GetPointer(0);
+    out.ClusterVertex = cvertex->GetPointer(0);
+    out.ClusterNormal = cnormal->GetPointer(0);
   }
   out.Level = level->GetPointer(0);
   out.Parent = parent->GetPointer(0);
@@ -232,8 +282,11 @@ bool vtkMultiscaleOctree::GetArrays(plod::OctreeArrays& out)
   out.Diffuse = diffuse->GetPointer(0);
   out.Specular = specular->GetPointer(0);
   out.Flags = flags->GetPointer(0);
+  out.Thickness = thickness->GetPointer(0);
   out.FirstPoint = firstPoint->GetPointer(0);
   out.FirstTriangle = reinterpret_cast<int64_t*>(firstTriangle->GetPointer(0));
+  out.FirstCluster = firstCluster->GetPointer(0);
+  out.PointCluster = pointCluster->GetPointer(0);
   out.Points = points->GetPointer(0);
   out.Normals = normals->GetPointer(0);
   out.PointLeaf = leaf->GetPointer(0);
@@ -248,7 +301,7 @@ bool vtkMultiscaleOctree::GetView(plod::OctreeView& view)
   view = plod::OctreeView();
   plod::OctreeArrays a;
   const vtkIdType n = this->GetNumberOfNodes();
-  if (n == 0 || !this->GetArrays(a))
+  if (n == 0 || !this->GetArrays(a) || !a.ClusterNode)
   {
     return false;
   }
@@ -267,12 +320,20 @@ bool vtkMultiscaleOctree::GetView(plod::OctreeView& view)
   view.Diffuse = a.Diffuse;
   view.Specular = a.Specular;
   view.Flags = a.Flags;
+  view.Thickness = a.Thickness;
   view.FirstPoint = a.FirstPoint;
   view.FirstTriangle = a.FirstTriangle;
+  view.FirstCluster = a.FirstCluster;
+  view.NumberOfClusters = this->GetNumberOfClusters();
+  view.ClusterNode = a.ClusterNode;
+  view.ClusterParent = a.ClusterParent;
+  view.ClusterVertex = a.ClusterVertex;
+  view.ClusterNormal = a.ClusterNormal;
   view.NumberOfPoints = this->GetNumberOfSurfacePoints();
   view.Points = a.Points;
   view.Normals = a.Normals;
   view.PointLeaf = a.PointLeaf;
+  view.PointCluster = a.PointCluster;
   view.InputPointId = a.InputPointId;
   view.NumberOfTriangles = this->GetNumberOfSurfaceTriangles();
   view.Triangles = a.Triangles;
@@ -283,7 +344,8 @@ bool vtkMultiscaleOctree::GetView(plod::OctreeView& view)
 bool vtkMultiscaleOctree::CheckKey::operator==(const CheckKey& o) const
 {
   return this->Level == o.Level && this->Triangles == o.Triangles && this->Nodes == o.Nodes &&
-    this->Points == o.Points && this->TriangleCount == o.TriangleCount && this->Time == o.Time &&
+    this->Points == o.Points && this->TriangleCount == o.TriangleCount &&
+    this->Clusters == o.Clusters && this->Time == o.Time &&
     this->Finest == o.Finest && this->Origin[0] == o.Origin[0] && this->Origin[1] == o.Origin[1] &&
     this->Origin[2] == o.Origin[2] && this->Edge == o.Edge;
 }
@@ -298,11 +360,12 @@ vtkMultiscaleOctree::CheckKey vtkMultiscaleOctree::MakeCheckKey()
   k.Triangles = tris ? tris->GetVoidPointer(0) : nullptr;
   k.Nodes = this->GetNumberOfNodes();
   k.Points = this->GetNumberOfSurfacePoints();
+  k.Clusters = this->GetNumberOfClusters();
   k.TriangleCount = this->GetNumberOfSurfaceTriangles();
   k.Finest = this->FinestLevel;
   std::copy(this->Origin, this->Origin + 3, k.Origin);
   k.Edge = this->RootEdge;
-  for (vtkFieldData* fd : { this->NodeData, this->SurfaceData })
+  for (vtkFieldData* fd : { this->NodeData, this->SurfaceData, this->ClusterData })
   {
     for (int i = 0; i < fd->GetNumberOfArrays(); ++i)
     {
@@ -521,4 +584,7 @@ void vtkMultiscaleOctree::PrintSelf(ostream& os, vtkIndent indent)
   this->NodeData->PrintSelf(os, indent.GetNextIndent());
   os << indent << "SurfaceData:\n";
   this->SurfaceData->PrintSelf(os, indent.GetNextIndent());
+  os << indent << "NumberOfClusters: " << this->GetNumberOfClusters() << "\n";
+  os << indent << "ClusterData:\n";
+  this->ClusterData->PrintSelf(os, indent.GetNextIndent());
 }

@@ -31,11 +31,23 @@
  * | `ShapeError` | float | 1 | SRCC eq. (3) over the points inside, world units |
  * | `DiffuseRange` | float | 2 | (min, max) diffuse reflectance in the cell |
  * | `SpecularRange` | float | 2 | (min, max) specular reflectance in the cell |
- * | `Flags` | unsigned char | 1 | bit 0: the cell's sub-mesh is a union of discs (topologically safe to collapse) |
+ * | `Flags` | unsigned char | 1 | bit 0: the cell's sub-mesh is a union of discs (topologically safe to collapse); bit 1: it holds a boundary point of an open surface |
+ * | `Thickness` | float | 1 | how thick a part collapsing the cell could make vanish (2 sqrt(2 l2) over the points' covariance), world units |
  * | `FirstPoint` | int | 1 | the cell's points are [FirstPoint, next node of the level's FirstPoint) |
  * | `FirstTriangle` | vtkIdType | 1 | the triangles the node owns (those that collapse when it is accepted) start here |
+ * | `FirstCluster` | int | 1 | the node's clusters are [FirstCluster, next node's FirstCluster) |
  *
- * That is 71 bytes per node. Nodes are stored level by level and, inside a level, in Morton
+ * That is 79 bytes per node. A cell's points fall into clusters, one per connected part of its
+ * surface, each with its own representative vertex: the two sheets of a thin wall keep their
+ * own vertices at every level. The cluster arrays, in GetClusterData():
+ *
+ * | name | type | comps | meaning |
+ * | --- | --- | --- | --- |
+ * | `Node` | int | 1 | the cluster's node |
+ * | `Parent` | int | 1 | the cluster of the parent node holding its points (-1 at the root) |
+ * | `Vertex` | float | 3 | its representative vertex, relative to GetOrigin() |
+ * | `Normal` | float | 3 | its shading normal (unit) |
+ * Nodes are stored level by level and, inside a level, in Morton
  * order. The surface arrays, in GetSurfaceData():
  *
  * | name | type | comps | meaning |
@@ -43,6 +55,7 @@
  * | `Points` | float | 3 | input points used by a triangle, in Morton order, relative to GetOrigin() |
  * | `Normals` | float | 3 | their unit shading normals (the input's, or computed as vtkPolyDataNormals does without splitting) |
  * | `PointLeaf` | int | 1 | the leaf holding each point |
+ * | `PointCluster` | int | 1 | the leaf cluster holding each point |
  * | `InputPointId` | vtkIdType | 1 | each point's index in the builder's input (-1 for points contoured from a cloud) |
  * | `Triangles` | int | 3 | point indices, oriented as in the input, sorted by owner node |
  *
@@ -107,8 +120,14 @@ public:
   /// The per-node arrays (see the class documentation for the names).
   vtkFieldData* GetNodeData() { return this->NodeData; }
 
-  /// The surface arrays: points, normals, point leaves, input ids, triangles.
+  /// The surface arrays: points, normals, point leaves and clusters, input ids, triangles.
   vtkFieldData* GetSurfaceData() { return this->SurfaceData; }
+
+  /// The cluster arrays: node, parent, vertex, normal.
+  vtkFieldData* GetClusterData() { return this->ClusterData; }
+
+  /// Number of clusters (at least one per node).
+  vtkIdType GetNumberOfClusters();
 
   /// Number of nodes (0 when empty).
   vtkIdType GetNumberOfNodes();
@@ -157,6 +176,8 @@ public:
    * and by readers; users normally never call it.
    */
   void Allocate(vtkIdType nodes, vtkIdType points, vtkIdType triangles);
+  /// Creates the cluster arrays for `clusters` clusters (after Allocate).
+  void AllocateClusters(vtkIdType clusters);
 
   ///@{
   /// Navigation. Invalid node ids give -1 (or 0 children).
@@ -200,8 +221,15 @@ public:
   static const char* DiffuseRangeArrayName() { return "DiffuseRange"; }
   static const char* SpecularRangeArrayName() { return "SpecularRange"; }
   static const char* FlagsArrayName() { return "Flags"; }
+  static const char* ThicknessArrayName() { return "Thickness"; }
   static const char* FirstPointArrayName() { return "FirstPoint"; }
   static const char* FirstTriangleArrayName() { return "FirstTriangle"; }
+  static const char* FirstClusterArrayName() { return "FirstCluster"; }
+  static const char* PointClusterArrayName() { return "PointCluster"; }
+  static const char* ClusterNodeArrayName() { return "Node"; }
+  static const char* ClusterParentArrayName() { return "Parent"; }
+  static const char* ClusterVertexArrayName() { return "Vertex"; }
+  static const char* ClusterNormalArrayName() { return "Normal"; }
   static const char* PointsArrayName() { return "Points"; }
   static const char* NormalsArrayName() { return "Normals"; }
   static const char* PointLeafArrayName() { return "PointLeaf"; }
@@ -209,8 +237,9 @@ public:
   static const char* TrianglesArrayName() { return "Triangles"; }
   ///@}
 
-  /// Bit of the Flags array: the cell's sub-mesh is a union of discs.
+  /// Bits of the Flags array: the cell's sub-mesh is a union of discs; it holds boundary points.
   static int GetTopologySafeFlag() { return 1; }
+  static int GetBoundaryFlag() { return 2; }
 
   ///@{
   /**
@@ -259,6 +288,7 @@ protected:
 
   vtkFieldData* NodeData;
   vtkFieldData* SurfaceData;
+  vtkFieldData* ClusterData;
   double Origin[3];
   double RootEdge;
   int FinestLevel;
@@ -271,7 +301,7 @@ protected:
   {
     const void* Level = nullptr;
     const void* Triangles = nullptr;
-    vtkIdType Nodes = -1, Points = -1, TriangleCount = -1;
+    vtkIdType Nodes = -1, Points = -1, TriangleCount = -1, Clusters = -1;
     vtkMTimeType Time = 0;
     int Finest = -1;
     double Origin[3] = { 0, 0, 0 };

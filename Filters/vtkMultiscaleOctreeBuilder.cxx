@@ -386,12 +386,17 @@ int vtkMultiscaleOctreeBuilder::RequestData(
     this->UpdateProgress(f);
     return !this->GetAbortExecute();
   };
-  auto allocate = [output](int64_t nodes, int64_t points, int64_t triangles) {
+  plod::Allocator allocate;
+  allocate.Nodes = [output](int64_t nodes, int64_t points, int64_t triangles) {
     output->Allocate(static_cast<vtkIdType>(nodes), static_cast<vtkIdType>(points),
       static_cast<vtkIdType>(triangles));
     plod::OctreeArrays arrays;
     output->GetArrays(arrays);
     return arrays;
+  };
+  allocate.Clusters = [output](int64_t clusters, plod::OctreeArrays& arrays) {
+    output->AllocateClusters(static_cast<vtkIdType>(clusters));
+    output->GetArrays(arrays);
   };
 
   const plod::BuildResult result = plod::BuildOctree(in, params, allocate, pfor, progress);

@@ -122,7 +122,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   const double far = std::max({ std::abs(v.Origin[0]), std::abs(v.Origin[1]),
     std::abs(v.Origin[2]) });
   auto position = [&v](int64_t source) {
-    return source >= 0 ? &v.Vertex[3 * source] : &v.Points[3 * (-1 - source)];
+    return source >= 0 ? &v.ClusterVertex[3 * source] : &v.Points[3 * (-1 - source)];
   };
   vtkNew<vtkPoints> points;
   points->SetDataType(far > 100.0 * v.RootEdge ? VTK_DOUBLE : VTK_FLOAT);
@@ -147,9 +147,9 @@ int vtkMultiscalePatchGenerator::RequestData(
   polys->SetData(offsets, connectivity);
   output->SetPolys(polys);
 
-  // the node of an output point: its cell, or the leaf of an opened leaf's point
+  // the node of an output point: its cluster's cell, or the leaf of an opened leaf's point
   auto nodeOf = [&v](int64_t source) {
-    return source >= 0 ? source : int64_t(v.PointLeaf[-1 - source]);
+    return source >= 0 ? int64_t(v.ClusterNode[source]) : int64_t(v.PointLeaf[-1 - source]);
   };
   if (this->GenerateNormals)
   {
@@ -161,7 +161,7 @@ int vtkMultiscalePatchGenerator::RequestData(
     for (vtkIdType i = 0; i < np; ++i)
     {
       const int64_t s = r.PointSource[i];
-      std::copy_n(s >= 0 ? &v.ConeAxis[3 * s] : &v.Normals[3 * (-1 - s)], 3, n + 3 * i);
+      std::copy_n(s >= 0 ? &v.ClusterNormal[3 * s] : &v.Normals[3 * (-1 - s)], 3, n + 3 * i);
     }
     output->GetPointData()->SetNormals(normals);
   }

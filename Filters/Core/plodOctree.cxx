@@ -22,13 +22,16 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
     return true;
   }
   if (n < 0 || n > MaxIndex || v.NumberOfPoints < 0 || v.NumberOfPoints > MaxIndex ||
-    v.NumberOfTriangles < 0 || v.NumberOfTriangles > MaxIndex)
+    v.NumberOfTriangles < 0 || v.NumberOfTriangles > MaxIndex || v.NumberOfClusters < n ||
+    v.NumberOfClusters > MaxIndex)
   {
     return fail("node, point or triangle count out of range");
   }
   if (!v.Level || !v.Parent || !v.FirstChild || !v.ChildMask || !v.Vertex || !v.ConeAxis ||
-    !v.ConeAngle || !v.ShapeError || !v.Diffuse || !v.Specular || !v.Flags || !v.FirstPoint ||
-    !v.FirstTriangle || (v.NumberOfPoints > 0 && (!v.Points || !v.Normals || !v.PointLeaf)) ||
+    !v.ConeAngle || !v.ShapeError || !v.Diffuse || !v.Specular || !v.Flags || !v.Thickness ||
+    !v.FirstPoint || !v.FirstTriangle || !v.FirstCluster || !v.ClusterNode || !v.ClusterParent ||
+    !v.ClusterVertex || !v.ClusterNormal ||
+    (v.NumberOfPoints > 0 && (!v.Points || !v.Normals || !v.PointLeaf || !v.PointCluster)) ||
     (v.NumberOfTriangles > 0 && !v.Triangles))
   {
     return fail("an octree array is missing");
@@ -43,9 +46,9 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
   {
     return fail("node 0 is not a root (parent -1, level 0)");
   }
-  if (v.FirstPoint[0] != 0 || v.FirstTriangle[0] != 0)
+  if (v.FirstPoint[0] != 0 || v.FirstTriangle[0] != 0 || v.FirstCluster[0] != 0)
   {
-    return fail("the root's point and triangle ranges do not start at 0");
+    return fail("the root's point, triangle and cluster ranges do not start at 0");
   }
   for (int64_t i = 0; i < n; ++i)
   {
@@ -69,6 +72,10 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
       {
         return fail(node + " has a triangle range before its predecessor's");
       }
+      if (v.FirstCluster[i] <= v.FirstCluster[i - 1])
+      {
+        return fail(node + " has no cluster of its own or a cluster range out of order");
+      }
       if (v.Level[i] == v.Level[i - 1] && v.FirstPoint[i] < v.FirstPoint[i - 1])
       {
         return fail(node + " has a point range before its predecessor's");
@@ -83,7 +90,8 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
       return fail(node + " is below the finest level");
     }
     if (v.FirstPoint[i] < 0 || v.FirstPoint[i] > v.NumberOfPoints ||
-      v.FirstTriangle[i] < 0 || v.FirstTriangle[i] > v.NumberOfTriangles)
+      v.FirstTriangle[i] < 0 || v.FirstTriangle[i] > v.NumberOfTriangles ||
+      v.FirstCluster[i] < 0 || v.FirstCluster[i] >= v.NumberOfClusters)
     {
       return fail(node + " has a point or triangle range outside the arrays");
     }
@@ -123,10 +131,11 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
     if (!(v.ConeAngle[i] >= 0.0f && v.ConeAngle[i] <= 3.1416f) || !std::isfinite(v.Vertex[3 * i]) ||
       !std::isfinite(v.Vertex[3 * i + 1]) || !std::isfinite(v.Vertex[3 * i + 2]) ||
       !std::isfinite(v.ConeAxis[3 * i]) || !std::isfinite(v.ConeAxis[3 * i + 1]) ||
-      !std::isfinite(v.ConeAxis[3 * i + 2]) || !(v.ShapeError[i] >= 0.0f))
+      !std::isfinite(v.ConeAxis[3 * i + 2]) || !(v.ShapeError[i] >= 0.0f) ||
+      !(v.Thickness[i] >= 0.0f))
     {
       return fail(node + " has a non-finite vertex or axis, a cone angle outside [0, pi] or a "
-                         "negative shape error");
+                         "negative shape error or thickness");
     }
   }
   // a node's points end where the next node of its level starts: a child range must end
@@ -139,6 +148,32 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
       return fail("node " + std::to_string(i) + "'s points are not inside its parent's");
     }
   }
+  // clusters: each in its node's range, its parent a cluster of the parent node
+  for (int64_t i = 0; i < n; ++i)
+  {
+    for (int64_t c = v.FirstCluster[i], end = v.ClusterEnd(i); c < end; ++c)
+    {
+      const int64_t parent = v.ClusterParent[c];
+      if (v.ClusterNode[c] != i)
+      {
+        return fail("cluster " + std::to_string(c) + " is in node " + std::to_string(i) +
+          "'s range but names node " + std::to_string(v.ClusterNode[c]));
+      }
+      if (i == 0 ? parent != -1
+                 : (parent < 0 || parent >= v.NumberOfClusters ||
+                     v.ClusterNode[parent] != v.Parent[i]))
+      {
+        return fail("cluster " + std::to_string(c) + " has parent " + std::to_string(parent) +
+          ", not a cluster of its node's parent");
+      }
+      if (!std::isfinite(v.ClusterVertex[3 * c]) || !std::isfinite(v.ClusterVertex[3 * c + 1]) ||
+        !std::isfinite(v.ClusterVertex[3 * c + 2]) || !std::isfinite(v.ClusterNormal[3 * c]) ||
+        !std::isfinite(v.ClusterNormal[3 * c + 1]) || !std::isfinite(v.ClusterNormal[3 * c + 2]))
+      {
+        return fail("cluster " + std::to_string(c) + " has a non-finite vertex or normal");
+      }
+    }
+  }
   for (int64_t p = 0; p < v.NumberOfPoints; ++p)
   {
     const int64_t leaf = v.PointLeaf[p];
@@ -147,6 +182,12 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
     {
       return fail("point " + std::to_string(p) + " has leaf " + std::to_string(leaf) +
         ", which does not hold it");
+    }
+    const int64_t c = v.PointCluster[p];
+    if (c < v.FirstCluster[leaf] || c >= v.ClusterEnd(leaf))
+    {
+      return fail("point " + std::to_string(p) + " has cluster " + std::to_string(c) +
+        ", which is not a cluster of its leaf");
     }
   }
   for (int64_t t = 0; t < 3 * v.NumberOfTriangles; ++t)

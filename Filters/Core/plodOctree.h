@@ -33,7 +33,20 @@
  *   node's points (the triangles and edges whose corners are all inside) is a disc, judged by
  *   Euler characteristic: V - E + F equals the number of components. Collapsing such a cell to
  *   one point cannot close a tube or a handle (which would drop the tube's triangles and open a
- *   see-through hole); the selector refines unsafe cells while they cover more than a pixel.
+ *   see-through hole). Bit 1 (NodeBoundary): the cell holds an end of a boundary edge (an open
+ *   surface's rim, a silhouette from any side).
+ * - `FirstCluster[n]`: a cell's points fall into clusters, one per connected component of its
+ *   sub-mesh (the points joined by its edges inside the cell): [FirstCluster[n],
+ *   ClusterEnd(n)). Each cluster has its own representative vertex and shading normal, so the
+ *   two sheets of a thin wall, or two separate parts that share a cell, keep their own vertices
+ *   at every level. Clusters form a tree finer than the octree: `ClusterParent[c]` is the
+ *   cluster of the parent node holding cluster c's points, `ClusterNode[c]` its node. Which
+ *   triangles a cut draws does not depend on clusters (two corners of a triangle in one cell
+ *   are joined by the triangle's own edge, so they share a cluster); where they go does.
+ * - `Thickness[n]`: how thick a part collapsing the cell could make vanish: 2 sqrt(2 l2), l2 the
+ *   middle eigenvalue of the covariance of the cell's points (a tube of radius r gives 2 r). The
+ *   selector refines a cell that is not topologically safe while its thickness covers more than
+ *   a pixel.
  *
  * Surface (the input mesh, kept so that the finest cut is the input itself):
  * - `Points` (3 floats per point, relative to the root origin), `Normals` (unit, 3 floats per
@@ -60,6 +73,8 @@ constexpr int64_t MaxIndex = 2147483647;
 
 /// Node flag: the cell's sub-mesh is a union of discs (see the file documentation).
 constexpr uint8_t NodeTopologySafe = 1;
+/// Node flag: the cell holds an end of a boundary edge of the surface (an edge of one triangle).
+constexpr uint8_t NodeBoundary = 2;
 
 /// Read-only view of the octree arrays. Pointers are owned elsewhere (the vtkMultiscaleOctree).
 struct OctreeView
@@ -80,13 +95,22 @@ struct OctreeView
   const float* Diffuse = nullptr;    // (min, max) per node
   const float* Specular = nullptr;   // (min, max) per node
   const uint8_t* Flags = nullptr;
+  const float* Thickness = nullptr; // world units
   const int32_t* FirstPoint = nullptr;
   const int64_t* FirstTriangle = nullptr;
+  const int32_t* FirstCluster = nullptr;
+
+  int64_t NumberOfClusters = 0;
+  const int32_t* ClusterNode = nullptr;
+  const int32_t* ClusterParent = nullptr; // -1 for the root's clusters
+  const float* ClusterVertex = nullptr;   // 3 per cluster, relative to Origin
+  const float* ClusterNormal = nullptr;   // 3 per cluster, unit
 
   int64_t NumberOfPoints = 0;
   const float* Points = nullptr;  // 3 per point, relative to Origin
   const float* Normals = nullptr; // 3 per point, unit
   const int32_t* PointLeaf = nullptr;
+  const int32_t* PointCluster = nullptr; // the leaf cluster of each point
   const int64_t* InputPointId = nullptr; // the input point of each surface point, -1 if none
   int64_t NumberOfTriangles = 0;
   const int32_t* Triangles = nullptr; // 3 per triangle
@@ -99,6 +123,13 @@ struct OctreeView
     return (node + 1 < this->NumberOfNodes && this->Level[node + 1] == this->Level[node])
       ? this->FirstPoint[node + 1]
       : this->NumberOfPoints;
+  }
+
+  /// One past the last cluster of `node`.
+  int64_t ClusterEnd(int64_t node) const
+  {
+    return node + 1 < this->NumberOfNodes ? this->FirstCluster[node + 1]
+                                          : this->NumberOfClusters;
   }
 
   /// One past the last triangle owned by `node`.
@@ -178,11 +209,18 @@ struct OctreeArrays
   float* Diffuse = nullptr;
   float* Specular = nullptr;
   uint8_t* Flags = nullptr;
+  float* Thickness = nullptr;
   int32_t* FirstPoint = nullptr;
   int64_t* FirstTriangle = nullptr;
+  int32_t* FirstCluster = nullptr;
+  int32_t* ClusterNode = nullptr;
+  int32_t* ClusterParent = nullptr;
+  float* ClusterVertex = nullptr;
+  float* ClusterNormal = nullptr;
   float* Points = nullptr;
   float* Normals = nullptr;
   int32_t* PointLeaf = nullptr;
+  int32_t* PointCluster = nullptr;
   int64_t* InputPointId = nullptr;
   int32_t* Triangles = nullptr;
 };
@@ -192,7 +230,8 @@ struct OctreeArrays
  * pointers present, root first, levels, parents before children and pointing back, child masks
  * and first children agreeing, leaves exactly at the finest level, point ranges nested and
  * covering every point once, each point's leaf holding it, triangle ranges increasing and
- * covering every triangle, triangle corners in range, cone angles in [0, pi], finite vertices.
+ * covering every triangle, triangle corners in range, clusters in node order with parents in the
+ * parent node, each point's cluster in its leaf, cone angles in [0, pi], finite vertices.
  * Returns false and explains in `why`. An empty octree (no nodes) is valid.
  */
 bool ValidateOctree(const OctreeView& v, std::string* why = nullptr);

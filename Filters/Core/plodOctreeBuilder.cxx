@@ -11,6 +11,8 @@
 #include "plodBuildUtil.h"
 #include "plodCloudSurface.h"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -108,7 +110,14 @@ namespace
 {
 using namespace build;
 
-constexpr double QEFTruncation = 0.1;
+/// Eigenvalues of a cell's quadric below this fraction of the largest are ignored (the cell's
+/// mean point decides along them). 0.1 dropped the constraint of thin rims and open boundaries,
+/// whose planes weigh little beside a cell's sheets; 0.01 keeps them (+0.3 to +0.7 dB on the
+/// bunny and the thin-parts model; 0.001 gained nothing more and let noise move vertices).
+constexpr double QEFTruncation = 0.01;
+/// Weight of a boundary edge's constraint plane (times its squared length), as for QSlim's
+/// boundary planes: it keeps an open surface's rim where it is.
+constexpr double BoundaryWeight = 1.0;
 constexpr int64_t Block = int64_t(1) << 20;
 
 /// The mesh a build reads: the user's input, or the mesh contoured from a point cloud.
@@ -149,11 +158,68 @@ struct Source
 /// Sums a cell passes to its parent.
 struct CellSums
 {
-  double N[3] = { 0, 0, 0 }; // weighted normals
-  double W = 0;              // their weight
-  double P[3] = { 0, 0, 0 }; // point positions (root-edge units)
+  double N[3] = { 0, 0, 0 };           // weighted normals
+  double W = 0;                        // their weight
+  double NN[6] = { 0, 0, 0, 0, 0, 0 }; // weighted second moments of the normals
+  double P[3] = { 0, 0, 0 };           // point positions (root-edge units)
+  double XX[6] = { 0, 0, 0, 0, 0, 0 }; // their second moments (xx xy xz yy yz zz)
+  int64_t Count = 0;                   // points
   Quadric Q;
+
+  void Add(const CellSums& o)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      this->N[a] += o.N[a];
+      this->P[a] += o.P[a];
+    }
+    for (int a = 0; a < 6; ++a)
+    {
+      this->NN[a] += o.NN[a];
+      this->XX[a] += o.XX[a];
+    }
+    this->W += o.W;
+    this->Count += o.Count;
+    this->Q.Add(o.Q);
+  }
+  void AddPoint(const double u[3])
+  {
+    for (int a = 0; a < 3; ++a)
+      this->P[a] += u[a];
+    this->XX[0] += u[0] * u[0];
+    this->XX[1] += u[0] * u[1];
+    this->XX[2] += u[0] * u[2];
+    this->XX[3] += u[1] * u[1];
+    this->XX[4] += u[1] * u[2];
+    this->XX[5] += u[2] * u[2];
+    ++this->Count;
+  }
+  /// A triangle of unit normal n at point u, weighted by w for the normal and q for the plane.
+  void AddTriangle(const double n[3], const double u[3], double w, double q)
+  {
+    for (int a = 0; a < 3; ++a)
+      this->N[a] += w * n[a];
+    this->W += w;
+    this->NN[0] += w * n[0] * n[0];
+    this->NN[1] += w * n[0] * n[1];
+    this->NN[2] += w * n[0] * n[2];
+    this->NN[3] += w * n[1] * n[1];
+    this->NN[4] += w * n[1] * n[2];
+    this->NN[5] += w * n[2] * n[2];
+    this->Q.AddPlane(n, u, q);
+  }
 };
+
+/**
+ * Shading normal of a cluster: the area-weighted mean normal; where the normals cancel (a thin
+ * wall folded inside one cluster: the mean is under half the weight) the principal direction of
+ * the normals, turned towards the mean, so that the surface drawn there is lit like one of its
+ * sheets (two-sided lighting does the rest) rather than by a meaningless average.
+ */
+void ShadingNormal(const CellSums& s, float out[3]);
+
+/// 2 sqrt(2 l2), l2 the middle eigenvalue of the covariance of `count` points with sums `s`.
+double Thickness(const CellSums& s, int64_t count);
 
 /// Running min/max of a reflectance.
 struct Range
@@ -180,6 +246,61 @@ struct Range
   }
 };
 
+void ShadingNormal(const CellSums& s, float out[3])
+{
+  const double len = std::sqrt(Dot(s.N, s.N));
+  double n[3] = { 0, 0, 1 };
+  if (s.W > 0 && len >= 0.5 * s.W)
+  {
+    for (int a = 0; a < 3; ++a)
+      n[a] = s.N[a] / len;
+  }
+  else if (s.W > 0)
+  {
+    Eigen::Matrix3d m;
+    m << s.NN[0], s.NN[1], s.NN[2], s.NN[1], s.NN[3], s.NN[4], s.NN[2], s.NN[4], s.NN[5];
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(m);
+    const Eigen::Vector3d e = eig.eigenvectors().col(2);
+    double sign = e[0] * s.N[0] + e[1] * s.N[1] + e[2] * s.N[2];
+    if (sign == 0)
+    {
+      // exactly cancelling: a fixed choice, the largest component positive
+      const int big = std::abs(e[0]) >= std::abs(e[1])
+        ? (std::abs(e[0]) >= std::abs(e[2]) ? 0 : 2)
+        : (std::abs(e[1]) >= std::abs(e[2]) ? 1 : 2);
+      sign = e[big];
+    }
+    for (int a = 0; a < 3; ++a)
+      n[a] = sign < 0 ? -e[a] : e[a];
+    if (!std::isfinite(n[0] + n[1] + n[2]))
+    {
+      n[0] = n[1] = 0;
+      n[2] = 1;
+    }
+  }
+  for (int a = 0; a < 3; ++a)
+    out[a] = static_cast<float>(n[a]);
+}
+
+double Thickness(const CellSums& s, int64_t count)
+{
+  if (count < 3)
+  {
+    return 0.0;
+  }
+  const double n = double(count);
+  const double m[3] = { s.P[0] / n, s.P[1] / n, s.P[2] / n };
+  Eigen::Matrix3d c;
+  c << s.XX[0] / n - m[0] * m[0], s.XX[1] / n - m[0] * m[1], s.XX[2] / n - m[0] * m[2],
+    s.XX[1] / n - m[0] * m[1], s.XX[3] / n - m[1] * m[1], s.XX[4] / n - m[1] * m[2],
+    s.XX[2] / n - m[0] * m[2], s.XX[4] / n - m[1] * m[2], s.XX[5] / n - m[2] * m[2];
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(c, Eigen::EigenvaluesOnly);
+  const double middle = std::max(0.0, eig.eigenvalues()[1]);
+  return 2.0 * std::sqrt(2.0 * middle);
+}
+
 class MeshBuild
 {
 public:
@@ -198,8 +319,9 @@ public:
   {
     return this->Scan() && this->PlaceRoot() && this->SortPoints() && this->ChooseLevel() &&
       this->MakeTree() && this->StoreSurface() && this->MakeIncidence() &&
-      this->ComputeNormals() && this->FindPassingTriangles() && this->ComputeCells() &&
-      this->ComputeShapeErrors() && this->ComputeTopology() && this->Finish();
+      this->ComputeNormals() && this->MakeEdges() && this->MakeClusters() &&
+      this->FindPassingTriangles() && this->ComputeCells() && this->ComputeShapeErrors() &&
+      this->Finish();
   }
 
 private:
@@ -211,10 +333,11 @@ private:
   bool StoreSurface();
   bool MakeIncidence();
   bool ComputeNormals();
+  bool MakeEdges();
   bool FindPassingTriangles();
   bool ComputeCells();
   bool ComputeShapeErrors();
-  bool ComputeTopology();
+  bool MakeClusters();
   bool Finish();
 
   bool Fail(const std::string& why)
@@ -299,7 +422,7 @@ private:
   void Material(int64_t p, Range& d, Range& s) const;
   void TriangleMaterial(int64_t t, Range& d, Range& s) const;
   void Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out) const;
-  void PlaceVertex(const CellSums& s, int64_t count, uint64_t key, int level, float* out) const;
+  void PlaceVertex(const CellSums& s, uint64_t key, int level, float* out) const;
 
   const Source& S;
   const BuildParameters& Params;
@@ -327,6 +450,10 @@ private:
   std::vector<int64_t> IncStart;  // incidence: the triangles of each point
   std::vector<int32_t> Inc;
   std::vector<std::pair<int32_t, int32_t>> Pass; // (node, triangle) meeting without a corner
+  std::vector<int64_t> EdgeStart; // unique edges: the higher ends of each point's edges
+  std::vector<int32_t> EdgeTo;    // sorted per point; repeated once per use
+  std::vector<std::pair<int32_t, Quadric>> BoundaryQuadric; // per point, sorted
+  std::vector<int64_t> ClusterOffset; // first cluster of each level, then the total
 };
 
 bool MeshBuild::Scan()
@@ -603,7 +730,7 @@ bool MeshBuild::MakeTree()
       ") for 32-bit node indices; lower the finest level");
   }
   this->Tris = this->Kept;
-  this->Out = this->Allocate(this->Nodes, this->Points, this->Tris);
+  this->Out = this->Allocate.Nodes(this->Nodes, this->Points, this->Tris);
   if (!this->Out.Level || !this->Out.Points || !this->Out.Triangles)
   {
     return this->Fail("could not allocate the octree arrays");
@@ -833,6 +960,124 @@ bool MeshBuild::ComputeNormals()
     [&](double f) { return this->Report(f); });
 }
 
+bool MeshBuild::MakeEdges()
+{
+  this->Report.Phase("edges", 0.4, 0.45);
+  OctreeArrays& o = this->Out;
+  // every edge use, grouped by its lower end point and sorted
+  std::vector<int64_t>& start = this->EdgeStart;
+  std::vector<int32_t>& to = this->EdgeTo;
+  start.assign(this->Points + 1, 0);
+  for (int64_t t = 0; t < this->Tris; ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
+      ++start[std::min(a, b) + 1];
+    }
+  }
+  for (int64_t p = 0; p < this->Points; ++p)
+  {
+    start[p + 1] += start[p];
+  }
+  to.resize(3 * this->Tris);
+  {
+    std::vector<int64_t> cursor(start.begin(), start.end() - 1);
+    for (int64_t t = 0; t < this->Tris; ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
+        to[cursor[std::min(a, b)]++] = std::max(a, b);
+      }
+    }
+  }
+  this->For(this->Points, 4096, [&](int64_t b, int64_t e) {
+    for (int64_t p = b; p < e; ++p)
+    {
+      std::sort(to.begin() + start[p], to.begin() + start[p + 1]);
+    }
+  });
+  if (!this->Report(0.5))
+  {
+    return false;
+  }
+  // uses of each edge: once on the boundary, twice inside a manifold. A boundary edge adds to
+  // the cells of its two ends the plane through it perpendicular to its triangle, so that
+  // representatives stay on an open surface's rim; their leaves are flagged.
+  std::fill(o.Flags, o.Flags + this->Nodes, 0);
+  std::vector<std::pair<int32_t, Quadric>> planes;
+  for (int64_t p = 0; p < this->Points; ++p)
+  {
+    for (int64_t i = start[p]; i < start[p + 1];)
+    {
+      int64_t j = i + 1;
+      while (j < start[p + 1] && to[j] == to[i])
+      {
+        ++j;
+      }
+      this->R.NumberOfNonManifoldEdges += (j - i > 2) ? 1 : 0;
+      if (j - i == 1)
+      {
+        ++this->R.NumberOfBoundaryEdges;
+        const int32_t a = static_cast<int32_t>(p), b = to[i];
+        // the edge's triangle: among a's triangles, the one holding b
+        int64_t tri = -1;
+        for (int64_t k = this->IncStart[a]; k < this->IncStart[a + 1] && tri < 0; ++k)
+        {
+          const int32_t* c = &o.Triangles[3 * this->Inc[k]];
+          if (c[0] == b || c[1] == b || c[2] == b)
+          {
+            tri = this->Inc[k];
+          }
+        }
+        double n[3], x[3], y[3];
+        if (tri >= 0 && this->Face(tri, n) > 0)
+        {
+          this->Position(a, x);
+          this->Position(b, y);
+          const double e[3] = { y[0] - x[0], y[1] - x[1], y[2] - x[2] };
+          double m[3];
+          Cross(e, n, m);
+          const double len = std::sqrt(Dot(m, m));
+          if (len > 0)
+          {
+            for (int k = 0; k < 3; ++k)
+              m[k] /= len;
+            Quadric q;
+            q.AddPlane(m, x, BoundaryWeight * Dot(e, e));
+            planes.emplace_back(a, q);
+            planes.emplace_back(b, q);
+          }
+        }
+        o.Flags[o.PointLeaf[a]] |= NodeBoundary;
+        o.Flags[o.PointLeaf[b]] |= NodeBoundary;
+      }
+      i = j;
+    }
+  }
+  for (int64_t n = this->Nodes - 1; n > 0; --n)
+  {
+    o.Flags[o.Parent[n]] |= o.Flags[n] & NodeBoundary;
+  }
+  std::stable_sort(planes.begin(), planes.end(),
+    [](const std::pair<int32_t, Quadric>& x, const std::pair<int32_t, Quadric>& y) {
+      return x.first < y.first;
+    });
+  for (const auto& pl : planes)
+  {
+    if (this->BoundaryQuadric.empty() || this->BoundaryQuadric.back().first != pl.first)
+    {
+      this->BoundaryQuadric.push_back(pl);
+    }
+    else
+    {
+      this->BoundaryQuadric.back().second.Add(pl.second);
+    }
+  }
+  return this->Report(1.0);
+}
+
 void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out) const
 {
   const int32_t* c = &this->Out.Triangles[3 * t];
@@ -918,7 +1163,7 @@ void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out
 
 bool MeshBuild::FindPassingTriangles()
 {
-  this->Report.Phase("passing", 0.4, 0.5);
+  this->Report.Phase("passing", 0.55, 0.6);
   for (int64_t start = 0; start < this->Tris; start += Block)
   {
     const int64_t end = std::min(this->Tris, start + Block);
@@ -967,13 +1212,12 @@ void MeshBuild::TriangleMaterial(int64_t t, Range& d, Range& s) const
   }
 }
 
-void MeshBuild::PlaceVertex(
-  const CellSums& s, int64_t count, uint64_t key, int level, float* out) const
+void MeshBuild::PlaceVertex(const CellSums& s, uint64_t key, int level, float* out) const
 {
   double mean[3], x[3];
   for (int a = 0; a < 3; ++a)
   {
-    mean[a] = count > 0 ? s.P[a] / double(count) : 0.0;
+    mean[a] = s.Count > 0 ? s.P[a] / double(s.Count) : 0.0;
   }
   if (this->Params.Rule == VertexRule::QEF && s.W > 0)
   {
@@ -995,9 +1239,221 @@ void MeshBuild::PlaceVertex(
   }
 }
 
+bool MeshBuild::MakeClusters()
+{
+  this->Report.Phase("clusters", 0.45, 0.55);
+  OctreeArrays& o = this->Out;
+  const int L = this->L;
+  // per node, F + U - E of the triangles, edges and unions whose lowest common node it is
+  std::vector<int64_t> delta(this->Nodes, 0);
+  for (int64_t t = 0; t < this->Tris; ++t)
+  {
+    ++delta[this->Holder(t)];
+  }
+  // the level of each unique edge's lowest common node
+  std::vector<int64_t>& start = this->EdgeStart;
+  std::vector<int32_t>& to = this->EdgeTo;
+  std::vector<int64_t> perLevel(L + 1, 0);
+  std::vector<uint8_t> level(to.size(), 255);
+  this->For(this->Points, 4096, [&](int64_t b, int64_t e) {
+    for (int64_t p = b; p < e; ++p)
+    {
+      const uint64_t kp = this->LeafKey(p);
+      for (int64_t i = start[p]; i < start[p + 1]; ++i)
+      {
+        if (i > start[p] && to[i] == to[i - 1])
+        {
+          continue; // the same edge again
+        }
+        level[i] = static_cast<uint8_t>(CommonLevel(kp, this->LeafKey(to[i]), L));
+      }
+    }
+  });
+  for (uint8_t l : level)
+  {
+    if (l != 255)
+    {
+      ++perLevel[l];
+    }
+  }
+  if (!this->Report(0.2))
+  {
+    return false;
+  }
+  // edges deepest first, so that unions inside a cell happen before those of its parent
+  std::vector<int64_t> levelStart(L + 2, 0);
+  for (int l = L; l >= 0; --l)
+  {
+    levelStart[L - l + 1] = levelStart[L - l] + perLevel[l];
+  }
+  std::vector<std::pair<int32_t, int32_t>> edges(levelStart[L + 1]);
+  {
+    std::vector<int64_t> cursor(levelStart.begin(), levelStart.end() - 1);
+    for (int64_t p = 0; p < this->Points; ++p)
+    {
+      for (int64_t i = start[p]; i < start[p + 1]; ++i)
+      {
+        if (level[i] != 255)
+        {
+          edges[cursor[L - level[i]]++] = { static_cast<int32_t>(p), to[i] };
+        }
+      }
+    }
+  }
+  std::vector<int64_t>().swap(start);
+  std::vector<int32_t>().swap(to);
+  std::vector<uint8_t>().swap(level);
+  if (!this->Report(0.4))
+  {
+    return false;
+  }
+
+  // Union-find over the points, level by level from the leaves: after the unions of level l,
+  // the roots of a level-l cell's points are its clusters (the components of its sub-mesh).
+  std::vector<int32_t> root(this->Points);
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&root](int32_t x) {
+    while (root[x] != x)
+    {
+      root[x] = root[root[x]];
+      x = root[x];
+    }
+    return x;
+  };
+  auto unite = [&](int l) {
+    for (int64_t i = levelStart[L - l]; i < levelStart[L - l + 1]; ++i)
+    {
+      const int32_t a = edges[i].first, b = edges[i].second;
+      const int64_t node = this->Ancestor(o.PointLeaf[a], l);
+      --delta[node]; // the edge
+      const int32_t ra = find(a), rb = find(b);
+      if (ra != rb)
+      {
+        root[std::max(ra, rb)] = std::min(ra, rb);
+        ++delta[node]; // a union: one component fewer
+      }
+    }
+  };
+  // clusters per level, with level-local ids: a point standing for each, and the parent
+  std::vector<std::vector<int32_t>> repPoint(L + 1), parentLocal(L + 1);
+  std::vector<int32_t> firstLocal(this->Nodes);
+  std::vector<int32_t> tag(this->Points, -1);
+  std::vector<int32_t> touched;
+  unite(L);
+  for (int64_t leaf = this->Offset[L]; leaf < this->Offset[L + 1]; ++leaf)
+  {
+    firstLocal[leaf] = static_cast<int32_t>(repPoint[L].size());
+    for (int64_t p = o.FirstPoint[leaf], end = this->PointEnd(leaf); p < end; ++p)
+    {
+      const int32_t r = find(static_cast<int32_t>(p));
+      if (tag[r] < 0)
+      {
+        tag[r] = static_cast<int32_t>(repPoint[L].size());
+        repPoint[L].push_back(static_cast<int32_t>(p));
+        touched.push_back(r);
+      }
+      o.PointCluster[p] = tag[r]; // level-local for now
+    }
+    for (int32_t r : touched)
+      tag[r] = -1;
+    touched.clear();
+  }
+  for (int l = L - 1; l >= 0; --l)
+  {
+    unite(l);
+    parentLocal[l + 1].assign(repPoint[l + 1].size(), -1);
+    for (int64_t n = this->Offset[l]; n < this->Offset[l + 1]; ++n)
+    {
+      firstLocal[n] = static_cast<int32_t>(repPoint[l].size());
+      const int children = __builtin_popcount(o.ChildMask[n]);
+      for (int c = 0; c < children; ++c)
+      {
+        const int64_t ch = o.FirstChild[n] + c;
+        const int32_t end = ch + 1 < this->Offset[l + 2] ? firstLocal[ch + 1]
+                                                         : static_cast<int32_t>(repPoint[l + 1].size());
+        for (int32_t k = firstLocal[ch]; k < end; ++k)
+        {
+          const int32_t r = find(repPoint[l + 1][k]);
+          if (tag[r] < 0)
+          {
+            tag[r] = static_cast<int32_t>(repPoint[l].size());
+            repPoint[l].push_back(repPoint[l + 1][k]);
+            touched.push_back(r);
+          }
+          parentLocal[l + 1][k] = tag[r];
+        }
+      }
+      for (int32_t r : touched)
+        tag[r] = -1;
+      touched.clear();
+    }
+    if (!this->Report(0.4 + 0.5 * double(L - l) / double(std::max(1, L))))
+    {
+      return false;
+    }
+  }
+  // global ids: level by level from the root, in node order inside a level
+  this->ClusterOffset.assign(L + 2, 0);
+  for (int l = 0; l <= L; ++l)
+  {
+    this->ClusterOffset[l + 1] = this->ClusterOffset[l] + static_cast<int64_t>(repPoint[l].size());
+  }
+  const int64_t clusters = this->ClusterOffset[L + 1];
+  if (clusters > MaxIndex)
+  {
+    return this->Fail("too many clusters (" + std::to_string(clusters) + ") for 32-bit indices");
+  }
+  this->Allocate.Clusters(clusters, o);
+  if (!o.ClusterNode || !o.ClusterParent || !o.ClusterVertex || !o.ClusterNormal)
+  {
+    return this->Fail("could not allocate the cluster arrays");
+  }
+  this->R.NumberOfClusters = clusters;
+  for (int l = 0; l <= L; ++l)
+  {
+    for (int64_t n = this->Offset[l]; n < this->Offset[l + 1]; ++n)
+    {
+      o.FirstCluster[n] = static_cast<int32_t>(this->ClusterOffset[l] + firstLocal[n]);
+    }
+  }
+  for (int l = 0; l <= L; ++l)
+  {
+    for (int64_t n = this->Offset[l]; n < this->Offset[l + 1]; ++n)
+    {
+      const int64_t end = n + 1 < this->Nodes ? o.FirstCluster[n + 1] : clusters;
+      for (int64_t c = o.FirstCluster[n]; c < end; ++c)
+      {
+        o.ClusterNode[c] = static_cast<int32_t>(n);
+        o.ClusterParent[c] = l == 0
+          ? -1
+          : static_cast<int32_t>(
+              this->ClusterOffset[l - 1] + parentLocal[l][c - this->ClusterOffset[l]]);
+      }
+    }
+  }
+  for (int64_t p = 0; p < this->Points; ++p)
+  {
+    o.PointCluster[p] = static_cast<int32_t>(this->ClusterOffset[L] + o.PointCluster[p]);
+  }
+  // topology: a union of discs when V - E + F equals the number of components
+  for (int64_t n = this->Nodes - 1; n > 0; --n)
+  {
+    delta[o.Parent[n]] += delta[n];
+  }
+  int64_t unsafe = 0;
+  for (int64_t n = 0; n < this->Nodes; ++n)
+  {
+    o.Flags[n] = static_cast<uint8_t>((o.Flags[n] & NodeBoundary) |
+      (delta[n] == 0 ? NodeTopologySafe : 0));
+    unsafe += delta[n] == 0 ? 0 : 1;
+  }
+  this->R.NumberOfUnsafeNodes = unsafe;
+  return this->Report(1.0);
+}
+
 bool MeshBuild::ComputeCells()
 {
-  this->Report.Phase("cells", 0.5, 0.75);
+  this->Report.Phase("cells", 0.6, 0.8);
   OctreeArrays& o = this->Out;
   const float ud = this->S.UniformDiffuse, us = this->S.UniformSpecular;
   auto passRange = [this](int64_t node) {
@@ -1038,11 +1494,24 @@ bool MeshBuild::ComputeCells()
     }
     return theta;
   };
+  // a node's own quantities from the sums of its clusters; its clusters' vertices and normals
+  auto finishNode = [&](int64_t node, int level, uint64_t key, const CellSums* sums, int count,
+                      CellSums& total) {
+    for (int k = 0; k < count; ++k)
+    {
+      total.Add(sums[k]);
+      const int64_t c = o.FirstCluster[node] + k;
+      this->PlaceVertex(sums[k], key, level, &o.ClusterVertex[3 * c]);
+      ShadingNormal(sums[k], &o.ClusterNormal[3 * c]);
+    }
+    this->PlaceVertex(total, key, level, &o.Vertex[3 * node]);
+    o.Thickness[node] = static_cast<float>(Thickness(total, total.Count) * this->Edge);
+  };
 
-  // leaves
+  // leaves: their points and the triangles at them
   const int L = this->L;
   const int64_t firstLeaf = this->Offset[L], leaves = this->Offset[L + 1] - firstLeaf;
-  std::vector<CellSums> child(leaves);
+  std::vector<CellSums> child(this->ClusterOffset[L + 1] - this->ClusterOffset[L]);
   bool ok = BlockedFor(
     leaves, 1024, Block / 4, this->For,
     [&](int64_t b, int64_t e) {
@@ -1050,17 +1519,27 @@ bool MeshBuild::ComputeCells()
       for (int64_t i = b; i < e; ++i)
       {
         const int64_t leaf = firstLeaf + i;
-        CellSums& s = child[i];
+        const int64_t cf = o.FirstCluster[leaf];
+        CellSums* sums = &child[cf - this->ClusterOffset[L]];
+        const int count = static_cast<int>(
+          (leaf + 1 < this->Nodes ? o.FirstCluster[leaf + 1] : this->ClusterOffset[L + 1]) - cf);
         Range d, sp;
         normals.clear();
         const int64_t p0 = o.FirstPoint[leaf], p1 = this->PointEnd(leaf);
         for (int64_t p = p0; p < p1; ++p)
         {
+          CellSums& s = sums[o.PointCluster[p] - cf];
           double u[3];
           this->Position(p, u);
-          for (int a = 0; a < 3; ++a)
-            s.P[a] += u[a];
+          s.AddPoint(u);
           this->Material(p, d, sp);
+          auto bq = std::lower_bound(this->BoundaryQuadric.begin(), this->BoundaryQuadric.end(),
+            static_cast<int32_t>(p),
+            [](const std::pair<int32_t, Quadric>& x, int32_t k) { return x.first < k; });
+          if (bq != this->BoundaryQuadric.end() && bq->first == p)
+          {
+            s.Q.Add(bq->second);
+          }
           for (int64_t j = this->IncStart[p]; j < this->IncStart[p + 1]; ++j)
           {
             const int32_t t = this->Inc[j];
@@ -1082,24 +1561,22 @@ bool MeshBuild::ComputeCells()
             const double area = this->Face(t, n);
             if (area > 0)
             {
-              const double w = area * inside / 3.0;
-              for (int a = 0; a < 3; ++a)
-                s.N[a] += w * n[a];
-              s.W += w;
-              s.Q.AddPlane(n, u, area * inside);
+              // the corners inside share one cluster (the triangle's edges join them)
+              s.AddTriangle(n, u, area * inside / 3.0, area * inside);
               normals.push_back({ n[0], n[1], n[2] });
             }
             this->TriangleMaterial(t, d, sp);
           }
         }
         addPassing(leaf, normals, d, sp);
+        CellSums total;
+        finishNode(leaf, L, this->Keys[L][i], sums, count, total);
         double axis[3];
-        const bool valid = NormaliseAxis(s.N, s.W, axis);
+        const bool valid = NormaliseAxis(total.N, total.W, axis);
         const double theta = valid ? std::min(Pi, widest(axis, normals)) : Pi;
         for (int a = 0; a < 3; ++a)
           o.ConeAxis[3 * leaf + a] = static_cast<float>(axis[a]);
         o.ConeAngle[leaf] = static_cast<float>(theta);
-        this->PlaceVertex(s, p1 - p0, this->Keys[L][i], L, &o.Vertex[3 * leaf]);
         d.Store(&o.Diffuse[2 * leaf], ud);
         sp.Store(&o.Specular[2 * leaf], us);
       }
@@ -1111,19 +1588,23 @@ bool MeshBuild::ComputeCells()
   }
   std::vector<int64_t>().swap(this->IncStart);
   std::vector<int32_t>().swap(this->Inc);
+  std::vector<std::pair<int32_t, Quadric>>().swap(this->BoundaryQuadric);
 
-  // coarser levels, from their children
+  // coarser levels, from their children's clusters
   for (int l = L - 1; l >= 0; --l)
   {
     const int64_t base = this->Offset[l], count = this->Offset[l + 1] - base;
-    const int64_t childBase = this->Offset[l + 1];
-    std::vector<CellSums> parent(count);
+    const int64_t clusterBase = this->ClusterOffset[l];
+    const int64_t childClusterBase = this->ClusterOffset[l + 1];
+    std::vector<CellSums> parent(this->ClusterOffset[l + 1] - clusterBase);
     this->For(count, 256, [&](int64_t b, int64_t e) {
       std::vector<std::array<double, 3>> normals;
       for (int64_t i = b; i < e; ++i)
       {
         const int64_t node = base + i;
-        CellSums& s = parent[i];
+        const int64_t cf = o.FirstCluster[node];
+        CellSums* sums = &parent[cf - clusterBase];
+        const int clusters = static_cast<int>(o.FirstCluster[node + 1] - cf);
         Range d, sp;
         normals.clear();
         const int children = __builtin_popcount(o.ChildMask[node]);
@@ -1131,22 +1612,25 @@ bool MeshBuild::ComputeCells()
         for (int c = 0; c < children; ++c)
         {
           const int64_t ch = o.FirstChild[node] + c;
-          const CellSums& cs = child[ch - childBase];
+          const int64_t chEnd =
+            ch + 1 < this->Nodes ? o.FirstCluster[ch + 1] : this->ClusterOffset[L + 1];
+          for (int64_t k = o.FirstCluster[ch]; k < chEnd; ++k)
+          {
+            sums[o.ClusterParent[k] - cf].Add(child[k - childClusterBase]);
+          }
           for (int a = 0; a < 3; ++a)
           {
-            s.N[a] += cs.N[a];
-            s.P[a] += cs.P[a];
             childAxis[c][a] = o.ConeAxis[3 * ch + a];
           }
-          s.W += cs.W;
-          s.Q.Add(cs.Q);
           childAngle[c] = o.ConeAngle[ch];
           d.Add(&o.Diffuse[2 * ch]);
           sp.Add(&o.Specular[2 * ch]);
         }
         addPassing(node, normals, d, sp);
+        CellSums total;
+        finishNode(node, l, this->Keys[l][i], sums, clusters, total);
         double axis[3];
-        const bool valid = NormaliseAxis(s.N, s.W, axis);
+        const bool valid = NormaliseAxis(total.N, total.W, axis);
         double theta = EnclosingConeAngle(axis, valid, childAxis, childAngle, children);
         if (valid)
         {
@@ -1155,8 +1639,6 @@ bool MeshBuild::ComputeCells()
         for (int a = 0; a < 3; ++a)
           o.ConeAxis[3 * node + a] = static_cast<float>(axis[a]);
         o.ConeAngle[node] = static_cast<float>(theta);
-        this->PlaceVertex(
-          s, this->PointEnd(node) - o.FirstPoint[node], this->Keys[l][i], l, &o.Vertex[3 * node]);
         d.Store(&o.Diffuse[2 * node], ud);
         sp.Store(&o.Specular[2 * node], us);
       }
@@ -1174,181 +1656,59 @@ bool MeshBuild::ComputeCells()
 
 bool MeshBuild::ComputeShapeErrors()
 {
-  this->Report.Phase("shape errors", 0.75, 0.85);
-  OctreeArrays& o = this->Out;
-  // SRCC eq. (3): spread along the axis of the points inside, relative to the vertex
-  return BlockedFor(
-    this->Nodes, 64, Block / 8, this->For,
-    [&](int64_t b, int64_t e) {
-      for (int64_t n = b; n < e; ++n)
-      {
-        const double axis[3] = { o.ConeAxis[3 * n], o.ConeAxis[3 * n + 1], o.ConeAxis[3 * n + 2] };
-        const double v[3] = { o.Vertex[3 * n], o.Vertex[3 * n + 1], o.Vertex[3 * n + 2] };
-        double lo = 0, hi = 0;
-        bool any = false;
-        for (int64_t p = o.FirstPoint[n], end = this->PointEnd(n); p < end; ++p)
-        {
-          const float* x = &o.Points[3 * p];
-          const double d =
-            axis[0] * (x[0] - v[0]) + axis[1] * (x[1] - v[1]) + axis[2] * (x[2] - v[2]);
-          lo = any ? std::min(lo, d) : d;
-          hi = any ? std::max(hi, d) : d;
-          any = true;
-        }
-        o.ShapeError[n] = static_cast<float>(hi - lo);
-      }
-    },
-    [&](double f) { return this->Report(f); });
-}
-
-bool MeshBuild::ComputeTopology()
-{
-  this->Report.Phase("topology", 0.85, 0.99);
+  this->Report.Phase("shape errors", 0.8, 0.98);
   OctreeArrays& o = this->Out;
   const int L = this->L;
-  // per node, F + U - E of the edges, triangles and unions whose lowest common node it is
-  std::vector<int64_t> delta(this->Nodes, 0);
-  for (int64_t t = 0; t < this->Tris; ++t)
-  {
-    ++delta[this->Holder(t)];
-  }
-  if (!this->Report(0.2))
-  {
-    return false;
-  }
-  // unique edges, grouped by their lower end point
-  std::vector<int64_t> start(this->Points + 1, 0);
-  for (int64_t t = 0; t < this->Tris; ++t)
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
-      ++start[std::min(a, b) + 1];
-    }
-  }
-  for (int64_t p = 0; p < this->Points; ++p)
-  {
-    start[p + 1] += start[p];
-  }
-  std::vector<int32_t> to(3 * this->Tris);
-  {
-    std::vector<int64_t> cursor(start.begin(), start.end() - 1);
-    for (int64_t t = 0; t < this->Tris; ++t)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
-        to[cursor[std::min(a, b)]++] = std::max(a, b);
-      }
-    }
-  }
-  std::vector<int64_t> perLevel(L + 1, 0);
-  std::vector<uint8_t> level(to.size(), 255);
-  this->For(this->Points, 4096, [&](int64_t b, int64_t e) {
-    for (int64_t p = b; p < e; ++p)
-    {
-      std::sort(to.begin() + start[p], to.begin() + start[p + 1]);
-      const uint64_t kp = this->LeafKey(p);
-      for (int64_t i = start[p]; i < start[p + 1]; ++i)
-      {
-        if (i > start[p] && to[i] == to[i - 1])
-        {
-          continue; // the same edge again
-        }
-        level[i] = static_cast<uint8_t>(CommonLevel(kp, this->LeafKey(to[i]), L));
-      }
-    }
-  });
-  // uses of each edge: once on the boundary, twice inside a manifold
-  for (int64_t p = 0; p < this->Points; ++p)
-  {
-    for (int64_t i = start[p]; i < start[p + 1];)
-    {
-      int64_t j = i + 1;
-      while (j < start[p + 1] && to[j] == to[i])
-      {
-        ++j;
-      }
-      this->R.NumberOfBoundaryEdges += (j - i == 1) ? 1 : 0;
-      this->R.NumberOfNonManifoldEdges += (j - i > 2) ? 1 : 0;
-      i = j;
-    }
-  }
-  for (uint8_t l : level)
-  {
-    if (l != 255)
-    {
-      ++perLevel[l];
-    }
-  }
-  if (!this->Report(0.5))
-  {
-    return false;
-  }
-  // edges deepest first, so that unions inside a cell happen before those of its parent
-  std::vector<int64_t> levelStart(L + 2, 0);
+  // SRCC eq. (3), per cluster: the spread along its normal of its points, relative to its
+  // vertex; a cell's shape error is the largest of its clusters' (each collapses on its own).
+  // `current` follows each point's cluster up the levels.
+  std::vector<int32_t> current(o.PointCluster, o.PointCluster + this->Points);
   for (int l = L; l >= 0; --l)
   {
-    levelStart[L - l + 1] = levelStart[L - l] + perLevel[l];
-  }
-  std::vector<std::pair<int32_t, int32_t>> edges(levelStart[L + 1]);
-  {
-    std::vector<int64_t> cursor(levelStart.begin(), levelStart.end() - 1);
-    for (int64_t p = 0; p < this->Points; ++p)
+    if (l < L)
     {
-      for (int64_t i = start[p]; i < start[p + 1]; ++i)
+      this->For(this->Points, 65536, [&](int64_t b, int64_t e) {
+        for (int64_t p = b; p < e; ++p)
+          current[p] = o.ClusterParent[current[p]];
+      });
+    }
+    const int64_t base = this->Offset[l], count = this->Offset[l + 1] - base;
+    this->For(count, 64, [&](int64_t b, int64_t e) {
+      std::vector<double> lo, hi;
+      for (int64_t i = b; i < e; ++i)
       {
-        if (level[i] != 255)
+        const int64_t n = base + i;
+        const int64_t cf = o.FirstCluster[n];
+        const int64_t ce =
+          n + 1 < this->Nodes ? o.FirstCluster[n + 1] : this->ClusterOffset[L + 1];
+        lo.assign(ce - cf, std::numeric_limits<double>::max());
+        hi.assign(ce - cf, -std::numeric_limits<double>::max());
+        for (int64_t p = o.FirstPoint[n], end = this->PointEnd(n); p < end; ++p)
         {
-          edges[cursor[L - level[i]]++] = { static_cast<int32_t>(p), to[i] };
+          const int64_t c = current[p];
+          const float* x = &o.Points[3 * p];
+          const float* v = &o.ClusterVertex[3 * c];
+          const float* m = &o.ClusterNormal[3 * c];
+          const double d = double(m[0]) * (double(x[0]) - v[0]) +
+            double(m[1]) * (double(x[1]) - v[1]) + double(m[2]) * (double(x[2]) - v[2]);
+          lo[c - cf] = std::min(lo[c - cf], d);
+          hi[c - cf] = std::max(hi[c - cf], d);
         }
+        double error = 0;
+        for (int64_t k = 0; k < ce - cf; ++k)
+        {
+          if (hi[k] >= lo[k])
+            error = std::max(error, hi[k] - lo[k]);
+        }
+        o.ShapeError[n] = static_cast<float>(error);
       }
-    }
-  }
-  std::vector<int64_t>().swap(start);
-  std::vector<int32_t>().swap(to);
-  std::vector<uint8_t>().swap(level);
-  std::vector<int32_t> root(this->Points);
-  std::iota(root.begin(), root.end(), 0);
-  auto find = [&root](int32_t x) {
-    while (root[x] != x)
+    });
+    if (!this->Report(double(L - l + 1) / double(L + 1)))
     {
-      root[x] = root[root[x]];
-      x = root[x];
-    }
-    return x;
-  };
-  for (int l = L; l >= 0; --l)
-  {
-    for (int64_t i = levelStart[L - l]; i < levelStart[L - l + 1]; ++i)
-    {
-      const int32_t a = edges[i].first, b = edges[i].second;
-      const int64_t node = this->Ancestor(o.PointLeaf[a], l);
-      --delta[node]; // the edge
-      const int32_t ra = find(a), rb = find(b);
-      if (ra != rb)
-      {
-        root[std::max(ra, rb)] = std::min(ra, rb);
-        ++delta[node]; // a union: one component fewer
-      }
+      return false;
     }
   }
-  if (!this->Report(0.9))
-  {
-    return false;
-  }
-  for (int64_t n = this->Nodes - 1; n > 0; --n)
-  {
-    delta[o.Parent[n]] += delta[n];
-  }
-  int64_t unsafe = 0;
-  for (int64_t n = 0; n < this->Nodes; ++n)
-  {
-    o.Flags[n] = delta[n] == 0 ? NodeTopologySafe : 0;
-    unsafe += delta[n] == 0 ? 0 : 1;
-  }
-  this->R.NumberOfUnsafeNodes = unsafe;
-  return this->Report(1.0);
+  return true;
 }
 
 bool MeshBuild::Finish()

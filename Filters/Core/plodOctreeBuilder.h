@@ -132,9 +132,17 @@ using ParallelFor =
 /// Sequential ParallelFor, for tests and for the single-threaded benchmark.
 void SerialFor(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body);
 
-/// Receives the node, point and triangle counts and returns the arrays to fill.
-using Allocator =
-  std::function<OctreeArrays(int64_t numberOfNodes, int64_t numberOfPoints, int64_t triangles)>;
+/**
+ * Makes the arrays to fill: `Nodes` receives the node, point and triangle counts and returns the
+ * node and surface arrays; `Clusters`, called later with the cluster count, sets the cluster
+ * arrays in `arrays` (keeping the others).
+ */
+struct Allocator
+{
+  std::function<OctreeArrays(int64_t numberOfNodes, int64_t numberOfPoints, int64_t triangles)>
+    Nodes;
+  std::function<void(int64_t numberOfClusters, OctreeArrays& arrays)> Clusters;
+};
 
 /// Called with the fraction done in [0, 1] (on the calling thread); return false to abort.
 using ProgressCallback = std::function<bool(double)>;
@@ -149,6 +157,7 @@ struct BuildResult
   /// limit, ...), one sentence each.
   std::vector<std::string> Warnings;
   int64_t NumberOfNodes = 0;
+  int64_t NumberOfClusters = 0;
   int FinestLevel = 0;
   /// Why the finest level is what it is (one sentence).
   std::string LevelReason;

@@ -21,8 +21,8 @@ bool TurnedOver(const OctreeView& v, const int64_t rep[3])
   {
     if (rep[k] >= 0)
     {
-      x[k] = &v.Vertex[3 * rep[k]];
-      n[k] = &v.ConeAxis[3 * rep[k]];
+      x[k] = &v.ClusterVertex[3 * rep[k]];
+      n[k] = &v.ClusterNormal[3 * rep[k]];
     }
     else
     {
@@ -61,11 +61,13 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   }
   PatchWorkspace local;
   PatchWorkspace& ws = workspace ? *workspace : local;
-  if (static_cast<int64_t>(ws.OutputOf.size()) != v.NumberOfNodes)
+  if (static_cast<int64_t>(ws.OutputOf.size()) != v.NumberOfClusters ||
+    static_cast<int64_t>(ws.Reached.size()) != v.NumberOfNodes)
   {
-    ws.OutputOf.assign(v.NumberOfNodes, -1);
+    ws.OutputOf.assign(v.NumberOfClusters, -1);
     ws.Reached.assign(v.NumberOfNodes, 0);
     ws.Touched.clear();
+    ws.TouchedClusters.clear();
   }
   std::string error;
   auto fail = [&error](const std::string& text) {
@@ -75,18 +77,21 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
     }
   };
 
-  // the representative of surface point p: its cut ancestor-or-self, or p in an opened leaf
+  // the representative of surface point p: the cluster holding it in its cut ancestor-or-self,
+  // or p itself in an opened leaf
   auto representative = [&](int32_t p, bool& drawn, uint8_t& mask, bool& backFacing) -> int64_t {
-    int64_t n = v.PointLeaf[p];
+    int64_t c = v.PointCluster[p];
+    int64_t n = v.ClusterNode[c];
     while (state[n] == NotInCut)
     {
-      const int64_t parent = v.Parent[n];
-      if (parent < 0 || parent >= n)
+      const int64_t parent = v.ClusterParent[c];
+      if (parent < 0 || parent >= c)
       {
         fail("surface point " + std::to_string(p) + " has no ancestor in the cut");
         return -1;
       }
-      n = parent;
+      c = parent;
+      n = v.ClusterNode[c];
     }
     if (!ws.Reached[n])
     {
@@ -100,7 +105,7 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
       mask = cullMask ? cullMask[n] : 0;
       backFacing = !cullMask || cullMask[n] == 0;
     }
-    return s == CutOpen ? -1 - int64_t(p) : n;
+    return s == CutOpen ? -1 - int64_t(p) : c;
   };
   auto outputPoint = [&](int64_t rep) -> int64_t {
     if (rep >= 0)
@@ -110,13 +115,14 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
       {
         id = static_cast<int32_t>(out.PointSource.size());
         out.PointSource.push_back(rep);
-        ws.Touched.push_back(static_cast<int32_t>(rep));
+        ws.TouchedClusters.push_back(static_cast<int32_t>(rep));
       }
       return id;
     }
+    // an opened leaf's points get a block of outputs, keyed by the leaf's first cluster
     const int64_t p = -1 - rep;
     const int32_t leaf = v.PointLeaf[p];
-    int32_t& base = ws.OutputOf[leaf];
+    int32_t& base = ws.OutputOf[v.FirstCluster[leaf]];
     if (base < 0)
     {
       base = static_cast<int32_t>(out.PointSource.size());
@@ -124,7 +130,7 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
       {
         out.PointSource.push_back(-1 - q);
       }
-      ws.Touched.push_back(leaf);
+      ws.TouchedClusters.push_back(v.FirstCluster[leaf]);
     }
     return base + (p - v.FirstPoint[leaf]);
   };
@@ -231,10 +237,14 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   }
   for (int32_t n : ws.Touched)
   {
-    ws.OutputOf[n] = -1;
     ws.Reached[n] = 0;
   }
+  for (int32_t c : ws.TouchedClusters)
+  {
+    ws.OutputOf[c] = -1;
+  }
   ws.Touched.clear();
+  ws.TouchedClusters.clear();
   if (!error.empty())
   {
     out.PointSource.clear();

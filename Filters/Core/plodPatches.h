@@ -5,8 +5,9 @@
  * by vertex clustering over the octree, Luebke & Erikson 1997).
  *
  * The walk visits the nodes above the cut from the root. Every triangle owned by a refined node
- * (or by an opened leaf) is drawn, each corner replaced by its representative: the vertex of the
- * cut cell that holds it, or the input point itself in an opened leaf. Owned triangles of
+ * (or by an opened leaf) is drawn, each corner replaced by its representative: the vertex of its
+ * cluster in the cut cell that holds it (one per connected part of the cell's surface), or the
+ * input point itself in an opened leaf. Owned triangles of
  * refined nodes never collapse (their three corners lie in three different cut cells), and every
  * other triangle has collapsed, so the work is proportional to what is drawn plus the nodes above
  * the cut, not to the input.
@@ -45,7 +46,7 @@ namespace plod
 /// Patches of a cut.
 struct PatchResult
 {
-  /// What each output point is: a node (>= 0, its representative vertex) or a surface point
+  /// What each output point is: a cluster (>= 0, its representative vertex) or a surface point
   /// (-1 - index) of an opened leaf.
   std::vector<int64_t> PointSource;
   std::vector<int64_t> Triangles; // 3 output point indices per triangle
@@ -63,9 +64,10 @@ struct PatchOptions
 /// Buffers kept between frames so that a frame allocates (and page-faults) nothing new.
 struct PatchWorkspace
 {
-  std::vector<int32_t> OutputOf; // output point of a node (or first point of an opened leaf)
+  std::vector<int32_t> OutputOf; // output point of a cluster (or first point of an opened leaf)
   std::vector<uint8_t> Reached;  // 1 for cut nodes the walk reached
   std::vector<int32_t> Touched;  // nodes whose entries must be cleared
+  std::vector<int32_t> TouchedClusters;
   std::vector<int32_t> Stack;
   std::vector<int32_t> Refined;  // nodes whose owned triangles are drawn
 };

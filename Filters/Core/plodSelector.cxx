@@ -369,11 +369,11 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
           in.MotionB[a];
     }
 
-    // a cell that is not a union of discs is refined while it covers more than a pixel
-    // (with the tolerances, its tolerance follows motion and foveation: DPV's infinite factor
-    // still accepts the root alone)
-    const bool unsafe =
-      !(v.Flags[n] & NodeTopologySafe) && h * k > in.TopologyTolerance * factor;
+    // a cell that is not a union of discs is refined while the part it could make vanish is
+    // thicker than a pixel (its tolerance follows motion and foveation like the others: DPV's
+    // infinite factor still accepts the root alone)
+    const bool unsafe = !(v.Flags[n] & NodeTopologySafe) &&
+      double(v.Thickness[n]) * k > in.TopologyTolerance * factor;
     // a cell whose edge projects within the contour tolerance cannot show more than it: its
     // points lie within that many pixels of its vertex (the size floor of every mode)
     const bool small = Ts >= 0 && h * k <= Ts && !unsafe;
@@ -446,6 +446,12 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
       if (small)
       {
         draw(n, AcceptedSize);
+        continue;
+      }
+      // an open surface's rim is a silhouette from every side: refined like the contour
+      if (v.Flags[n] & NodeBoundary)
+      {
+        refine(e, false);
         continue;
       }
       if (!(cosT > 0 && c > sinT))

@@ -33,10 +33,16 @@
  * spans up to the cell's diagonal drove cells below a pixel: 3.4 triangles per covered pixel
  * on Lucy seen from afar.
  * Topology: a cell whose sub-mesh is not a union of discs (no NodeTopologySafe flag: a tube, a
- * handle) is refined, whatever its errors, while its edge projects to more than
- * TopologyTolerance pixels (times the motion and foveation factor, like the other tolerances),
- * because collapsing it would drop a visible part (a tube's triangles all degenerate).
+ * handle) is refined, whatever its errors, while its Thickness (the part collapsing it could
+ * make vanish) projects to more than TopologyTolerance pixels (times the motion and foveation
+ * factor, like the other tolerances): collapsing a tube drops its triangles. Judging by the
+ * thickness and not the cell's size matters for thin features seen from afar: a ring 0.6 pixel
+ * thick was refined to sub-pixel cells at 10 triangles per covered pixel.
  * Back-facing and culled cells are hidden first: they are not refined.
+ * Boundaries (SRCC mode): a cell holding a rim of an open surface (NodeBoundary) is refined until
+ * it passes the size floor, as a contour cell would: a rim is a silhouette from every side, and
+ * its flat neighbourhood would otherwise pass the brightness test with large cells and pull the
+ * rim inwards.
  * A cell containing the eye is always refined (its error is unbounded); the eye on a vertex
  * counts as inside.
  *

@@ -3,6 +3,11 @@
     PYTHONPATH=build/lib/python3/dist-packages xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \\
         /usr/bin/python3 Testing/Quality/plod_faithful.py --out docs/results [--quick]
 
+Models: the Stanford bunny (69,451 triangles, open base), Lucy as given in ../shared/data (15,000
+triangles: a coarse mesh), Lucy Loop-subdivided twice (240,000 triangles: a dense surface with
+Lucy's thin wings, standing in for a full-resolution scan), a generated displaced sphere of
+1,005,360 triangles, and a generated body with thin parts beside it (a wing, a ring, a spike).
+
 Protocol (every view, every model):
 - 640x480, view angle 30 degrees, the renderer's automatic headlight, a grey actor (colour 0.8,
   diffuse 0.9, specular 0.3, power 20), background pure blue (no lit grey pixel can have it);
@@ -112,28 +117,35 @@ def grid_surface(nu, nv, fn, closed_u, closed_v):
     return pd
 
 
+def _sin_pi(v):
+    """sin(pi v), exactly 0 at the poles (so that they weld into closed surfaces)."""
+    return np.where((v <= 0) | (v >= 1), 0.0, np.sin(np.pi * v))
+
+
 def thin_parts_model(resolution=200):
-    """A body with thin parts: a displaced sphere, a thin wing (a flattened ellipsoid), a thin
-    ring (a torus whose tube is 1/100 of the body) and a thin spike; closed components."""
+    """A body with thin parts beside it, as on a statue: a displaced sphere (radius about 1), a
+    thin wing (a flattened ellipsoid 0.03 thick) beside it, a thin ring (a torus whose tube is
+    0.012, 1/80 of the body) around it and a thin spike (0.03 across) above it. Closed, separate
+    components (no part passes through another, which a scan never does)."""
     parts = [displaced_sphere(resolution)]
-    # wing: ellipsoid 1.6 x 0.02 x 0.5 through the body
+    # wing: ellipsoid 1.0 x 0.015 x 0.45 half-axes, beside the body on +x
     parts.append(grid_surface(resolution, resolution // 2, lambda u, v: (
-        1.6 * np.cos(2 * np.pi * u) * np.sin(np.pi * v),
-        0.02 * np.sin(2 * np.pi * u) * np.sin(np.pi * v) + 0.3,
-        0.5 * np.cos(np.pi * v)), True, False))
-    # ring: torus of radius 1.3, tube 0.012, tilted
+        2.4 + 1.0 * np.cos(2 * np.pi * u) * _sin_pi(v),
+        0.015 * np.sin(2 * np.pi * u) * _sin_pi(v) + 0.2,
+        0.45 * np.cos(np.pi * v)), True, False))
+    # ring: torus of radius 1.45, tube 0.012, tilted
     def torus(u, v):
-        R, r = 1.3, 0.012
+        R, r = 1.45, 0.012
         x = (R + r * np.cos(2 * np.pi * v)) * np.cos(2 * np.pi * u)
         y = (R + r * np.cos(2 * np.pi * v)) * np.sin(2 * np.pi * u)
         z = r * np.sin(2 * np.pi * v)
         return x, 0.5 * y + 0.8 * z, -0.8 * y + 0.5 * z
     parts.append(grid_surface(4 * resolution, 12, torus, True, True))
-    # spike: a long thin cone-like ellipsoid
+    # spike: a long thin ellipsoid above the body
     parts.append(grid_surface(resolution // 4, resolution, lambda u, v: (
-        0.015 * np.cos(2 * np.pi * u) * np.sin(np.pi * v),
-        0.9 + 0.9 * np.cos(np.pi * v),
-        0.015 * np.sin(2 * np.pi * u) * np.sin(np.pi * v)), True, False))
+        0.015 * np.cos(2 * np.pi * u) * _sin_pi(v),
+        1.9 + 0.55 * np.cos(np.pi * v),
+        0.015 * np.sin(2 * np.pi * u) * _sin_pi(v)), True, False))
     append = vtkAppendPolyData()
     for p in parts:
         clean = vtkCleanPolyData()
@@ -146,6 +158,20 @@ def thin_parts_model(resolution=200):
     tri.Update()
     pd = vtkPolyData()
     pd.DeepCopy(tri.GetOutput())
+    return pd
+
+
+def subdivided(data, times=2):
+    """Loop subdivision of a closed mesh: a dense surface with the same thin parts."""
+    from vtkmodules.vtkFiltersModeling import vtkLoopSubdivisionFilter
+    clean = vtkCleanPolyData()
+    clean.SetInputData(data)
+    loop = vtkLoopSubdivisionFilter()
+    loop.SetInputConnection(clean.GetOutputPort())
+    loop.SetNumberOfSubdivisions(times)
+    loop.Update()
+    pd = vtkPolyData()
+    pd.DeepCopy(loop.GetOutput())
     return pd
 
 
@@ -162,6 +188,7 @@ def models(data, quick):
         print('skipping the bunny: %s not found' % bunny)
     if os.path.exists(lucy):
         out.append(('lucy', read_ply(lucy)))
+        out.append(('lucy-dense', subdivided(read_ply(lucy))))
     else:
         print('skipping Lucy: %s not found' % lucy)
     out.append(('generated-1M', displaced_sphere(710)))

@@ -223,7 +223,7 @@ TEST(MultiscalePatchGenerator, UniformCutIsGridClusteringOfTheInput)
       for (int j = 0; j < 3; ++j)
       {
         int c[3];
-        v.CellCoordinates(r.PointSource[r.Triangles[k + j]], c);
+        v.CellCoordinates(plodcheck::NodeOf(v, r.PointSource[r.Triangles[k + j]]), c);
         t[j] = { c[0], c[1], c[2] };
       }
       drawn.insert(rotate(t));
@@ -311,7 +311,7 @@ TEST(MultiscalePatchGenerator, HiddenCellsAndCullMasks)
       for (int k = 0; k < 3; ++k)
       {
         rep[k] = plodcheck::Representative(v, cut.data(), v.Triangles[3 * t + k]);
-        const int64_t node = rep[k] >= 0 ? rep[k] : v.PointLeaf[-1 - rep[k]];
+        const int64_t node = plodcheck::NodeOf(v, rep[k]);
         drawn = drawn || cut[node] != plod::CutHidden;
         if (cut[node] == plod::CutHidden)
         {
@@ -383,8 +383,8 @@ TEST(MultiscalePatchGenerator, DropFoldsRemovesOnlyTurnedOverTriangles)
       for (int j = 0; j < 3; ++j)
         for (int a = 0; a < 3; ++a)
         {
-          x[j][a] = s[j] >= 0 ? v.Vertex[3 * s[j] + a] : v.Points[3 * (-1 - s[j]) + a];
-          n[j][a] = s[j] >= 0 ? v.ConeAxis[3 * s[j] + a] : v.Normals[3 * (-1 - s[j]) + a];
+          x[j][a] = s[j] >= 0 ? v.ClusterVertex[3 * s[j] + a] : v.Points[3 * (-1 - s[j]) + a];
+          n[j][a] = s[j] >= 0 ? v.ClusterNormal[3 * s[j] + a] : v.Normals[3 * (-1 - s[j]) + a];
         }
       const double e1[3] = { x[1][0] - x[0][0], x[1][1] - x[0][1], x[1][2] - x[0][2] };
       const double e2[3] = { x[2][0] - x[0][0], x[2][1] - x[0][1], x[2][2] - x[0][2] };

@@ -43,6 +43,7 @@ struct Tiny
   float Diffuse[4] = { 1, 1, 1, 1 };
   float Specular[4] = { 0, 0, 0, 0 };
   uint8_t Flags[2] = { plod::NodeTopologySafe, plod::NodeTopologySafe };
+  float Thickness[2] = { 0, 0 };
   int32_t FirstPoint[2] = { 0, 0 };
   int64_t FirstTriangle[2] = { 0, 0 };
   plod::OctreeView View()
@@ -62,6 +63,7 @@ struct Tiny
     v.Diffuse = Diffuse;
     v.Specular = Specular;
     v.Flags = Flags;
+    v.Thickness = Thickness;
     v.FirstPoint = FirstPoint;
     v.FirstTriangle = FirstTriangle;
     return v;

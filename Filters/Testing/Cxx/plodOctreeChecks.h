@@ -121,6 +121,31 @@ inline int64_t Owner(const plod::OctreeView& v, int64_t t)
   return best;
 }
 
+/// The cluster of point p in `node` (an ancestor-or-self of its leaf).
+inline int64_t ClusterIn(const plod::OctreeView& v, int64_t p, int64_t node)
+{
+  int64_t c = v.PointCluster[p];
+  while (v.ClusterNode[c] != node)
+    c = v.ClusterParent[c];
+  return c;
+}
+
+/// Representative of surface point p in a cut: the cluster holding it in its cut ancestor
+/// (>= 0), or -1 - p when its leaf is opened.
+inline int64_t Representative(const plod::OctreeView& v, const uint8_t* state, int64_t p)
+{
+  int64_t n = v.PointLeaf[p];
+  while (state[n] == plod::NotInCut)
+    n = v.Parent[n];
+  return state[n] == plod::CutOpen ? -1 - p : ClusterIn(v, p, n);
+}
+
+/// Node of a representative.
+inline int64_t NodeOf(const plod::OctreeView& v, int64_t rep)
+{
+  return rep >= 0 ? v.ClusterNode[rep] : v.PointLeaf[-1 - rep];
+}
+
 /// Does the triangle (a, b, c) meet the closed box [lo, lo + h]^3? By clipping the triangle
 /// against the six slabs (Sutherland-Hodgman), with a relative tolerance.
 inline bool MeetsBox(const double a[3], const double b[3], const double c[3], const double lo[3],
@@ -175,6 +200,57 @@ inline double Face(const plod::OctreeView& v, int64_t t, double n[3])
   for (int k = 0; k < 3; ++k)
     n[k] /= len;
   return 0.5 * len;
+}
+
+/// For each node, whether its clusters are exactly the connected components of its sub-mesh
+/// (BFS over the edges with both ends inside); returns the first node where they are not, or -1.
+inline int64_t ClustersAreComponents(const plod::OctreeView& v)
+{
+  std::vector<std::vector<int32_t>> adjacent(v.NumberOfPoints);
+  for (int64_t t = 0; t < v.NumberOfTriangles; ++t)
+    for (int k = 0; k < 3; ++k)
+    {
+      const int32_t a = v.Triangles[3 * t + k], b = v.Triangles[3 * t + (k + 1) % 3];
+      adjacent[a].push_back(b);
+      adjacent[b].push_back(a);
+    }
+  for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+  {
+    const int64_t p0 = v.FirstPoint[n], p1 = v.PointEnd(n);
+    std::vector<int64_t> component(p1 - p0, -1);
+    int64_t comps = 0;
+    for (int64_t p = p0; p < p1; ++p)
+    {
+      if (component[p - p0] >= 0)
+        continue;
+      std::vector<int64_t> stack{ p };
+      component[p - p0] = comps;
+      while (!stack.empty())
+      {
+        const int64_t x = stack.back();
+        stack.pop_back();
+        for (int32_t y : adjacent[x])
+          if (y >= p0 && y < p1 && component[y - p0] < 0)
+          {
+            component[y - p0] = comps;
+            stack.push_back(y);
+          }
+      }
+      ++comps;
+    }
+    if (comps != v.ClusterEnd(n) - v.FirstCluster[n])
+      return n;
+    // same partition: points share a cluster exactly when they share a component
+    std::map<int64_t, int64_t> clusterOfComponent;
+    for (int64_t p = p0; p < p1; ++p)
+    {
+      const int64_t c = ClusterIn(v, p, n);
+      auto it = clusterOfComponent.insert({ component[p - p0], c }).first;
+      if (it->second != c)
+        return n;
+    }
+  }
+  return -1;
 }
 
 /// Number of nodes that are not a union of discs, by BFS components and V - E + F per node.
@@ -276,25 +352,37 @@ inline void CheckOctree(const Built& b, const std::string& what, bool topology =
         ASSERT_LE(Angle(pa.data(), axis.data()) + v.ConeAngle[n], v.ConeAngle[p] + 1e-4)
           << what << " node " << n << " in " << p;
     }
-    // the vertex: inside the cell (QEF is clamped to it; the mean of points inside is inside)
+    // the vertices, the cell's and its clusters': inside the cell (QEF is clamped to it; the
+    // mean of points inside is inside)
     double lo[3], h;
     NodeBox(v, n, lo, h);
     for (int a = 0; a < 3; ++a)
     {
       ASSERT_GE(v.Vertex[3 * n + a], lo[a] - tol) << what << " vertex of " << n;
       ASSERT_LE(v.Vertex[3 * n + a], lo[a] + h + tol) << what << " vertex of " << n;
+      for (int64_t c = v.FirstCluster[n]; c < v.ClusterEnd(n); ++c)
+      {
+        ASSERT_GE(v.ClusterVertex[3 * c + a], lo[a] - tol) << what << " cluster " << c;
+        ASSERT_LE(v.ClusterVertex[3 * c + a], lo[a] + h + tol) << what << " cluster " << c;
+      }
     }
-    // SRCC eq. (3) over the points inside
-    double mn = 0, mx = 0;
+    // SRCC eq. (3) per cluster, along its normal, about its vertex; the cell's is the largest
+    std::map<int64_t, std::pair<double, double>> spread;
     for (int64_t p = v.FirstPoint[n]; p < v.PointEnd(n); ++p)
     {
+      const int64_t c = ClusterIn(v, p, n);
       double d = 0;
       for (int a = 0; a < 3; ++a)
-        d += axis[a] * (double(v.Points[3 * p + a]) - v.Vertex[3 * n + a]);
-      mn = p == v.FirstPoint[n] ? d : std::min(mn, d);
-      mx = p == v.FirstPoint[n] ? d : std::max(mx, d);
+        d += double(v.ClusterNormal[3 * c + a]) *
+          (double(v.Points[3 * p + a]) - v.ClusterVertex[3 * c + a]);
+      auto it = spread.insert({ c, { d, d } }).first;
+      it->second.first = std::min(it->second.first, d);
+      it->second.second = std::max(it->second.second, d);
     }
-    ASSERT_NEAR(v.ShapeError[n], mx - mn, 1e-4 * v.RootEdge) << what << " node " << n;
+    double error = 0;
+    for (const auto& c : spread)
+      error = std::max(error, c.second.second - c.second.first);
+    ASSERT_NEAR(v.ShapeError[n], error, 1e-4 * v.RootEdge) << what << " node " << n;
   }
   // cones hold the normal of every triangle that meets the cell
   for (int64_t t = 0; t < v.NumberOfTriangles; ++t)
@@ -318,6 +406,7 @@ inline void CheckOctree(const Built& b, const std::string& what, bool topology =
         << ") outside its cone";
     }
   }
+  ASSERT_EQ(ClustersAreComponents(v), -1) << what << ": clusters are not the components";
   if (topology)
   {
     const std::vector<bool> safe = BruteForceSafe(v);
@@ -334,15 +423,6 @@ inline std::array<int64_t, 3> Canonical(int64_t a, int64_t b, int64_t c)
   if (c < a && c < b)
     return { c, a, b };
   return { a, b, c };
-}
-
-/// Representative of surface point p in a cut: its cut ancestor (>= 0) or -1 - p when opened.
-inline int64_t Representative(const plod::OctreeView& v, const uint8_t* state, int64_t p)
-{
-  int64_t n = v.PointLeaf[p];
-  while (state[n] == plod::NotInCut)
-    n = v.Parent[n];
-  return state[n] == plod::CutOpen ? -1 - p : n;
 }
 
 /// The triangles a cut must draw (all drawn cells), by mapping every input triangle's corners.
