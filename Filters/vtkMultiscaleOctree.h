@@ -253,6 +253,13 @@ public:
    */
   static const char* CutStateArrayName() { return "CutState"; }
   static const char* CullMaskArrayName() { return "CullMask"; }
+  /**
+   * The selector also stores, in the octree's field data (GetFieldData()), the double array
+   * "CutView": the eye (3, octree-local: relative to the origin, object coordinates), 1 for a
+   * parallel projection, its direction (3), and 1 when back faces were hidden. The patch
+   * generator then culls the triangles facing away from that eye.
+   */
+  static const char* CutViewArrayName() { return "CutView"; }
   enum CutStates
   {
     NOT_IN_CUT = 0,

@@ -39,7 +39,9 @@ vtkMultiscalePatchGenerator::vtkMultiscalePatchGenerator()
   , GenerateNodeIds(false)
   , GenerateInputPointIds(false)
   , DropFolds(true)
+  , CullBackFaces(true)
   , NumberOfDroppedFolds(0)
+  , NumberOfCulledBackFaces(0)
   , NumberOfTriangles(0)
   , NumberOfOutputPoints(0)
   , NodesVisited(0)
@@ -67,6 +69,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   output->Initialize();
   this->NumberOfTriangles = this->NodesVisited = this->NumberOfOutputPoints = 0;
   this->NumberOfDroppedFolds = 0;
+  this->NumberOfCulledBackFaces = 0;
   this->GenerateTime = 0;
   if (!input || input->GetNumberOfNodes() == 0)
   {
@@ -109,6 +112,20 @@ int vtkMultiscalePatchGenerator::RequestData(
   plod::PatchResult& r = this->Internal->Result;
   plod::PatchOptions options;
   options.DropFolds = this->DropFolds;
+  if (this->CullBackFaces && input->GetFieldData())
+  {
+    vtkDataArray* view = input->GetFieldData()->GetArray(vtkMultiscaleOctree::CutViewArrayName());
+    if (view && view->GetNumberOfValues() == 8 && view->GetComponent(7, 0) != 0)
+    {
+      options.CullBackFaces = true;
+      for (int a = 0; a < 3; ++a)
+      {
+        options.Eye[a] = view->GetComponent(a, 0);
+        options.ProjectionDirection[a] = view->GetComponent(4 + a, 0);
+      }
+      options.Parallel = view->GetComponent(3, 0) != 0;
+    }
+  }
   if (!plod::GeneratePatches(v, state, cullMask, r, &why, &this->Internal->Workspace, options))
   {
     vtkErrorMacro("Invalid cut: " << why << ". Empty output.");
@@ -209,6 +226,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   this->NumberOfOutputPoints = np;
   this->NodesVisited = r.NodesVisited;
   this->NumberOfDroppedFolds = r.FoldsDropped;
+  this->NumberOfCulledBackFaces = r.BackFacesCulled;
   return 1;
 }
 
@@ -226,5 +244,7 @@ void vtkMultiscalePatchGenerator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NodesVisited: " << this->NodesVisited << "\n";
   os << indent << "DropFolds: " << (this->DropFolds ? "On" : "Off") << "\n";
   os << indent << "NumberOfDroppedFolds: " << this->NumberOfDroppedFolds << "\n";
+  os << indent << "CullBackFaces: " << (this->CullBackFaces ? "On" : "Off") << "\n";
+  os << indent << "NumberOfCulledBackFaces: " << this->NumberOfCulledBackFaces << "\n";
   os << indent << "GenerateTime: " << this->GenerateTime << " s\n";
 }

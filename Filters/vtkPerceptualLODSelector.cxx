@@ -7,6 +7,8 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMatrix4x4.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -473,6 +475,27 @@ int vtkPerceptualLODSelector::RequestData(
   output->GetNodeData()->AddArray(I.State);
   output->GetNodeData()->AddArray(I.Reason);
   output->GetNodeData()->AddArray(I.CullMask);
+  // the view the cut was made for, in octree-local coordinates, for the patch generator's
+  // per-triangle back-face culling (only when back faces are hidden)
+  {
+    vtkNew<vtkDoubleArray> view;
+    view->SetName(vtkMultiscaleOctree::CutViewArrayName());
+    view->SetNumberOfValues(8);
+    for (int a = 0; a < 3; ++a)
+    {
+      view->SetValue(a, in.Eye[a]);
+      view->SetValue(4 + a, in.ProjectionDirection[a]);
+    }
+    view->SetValue(3, in.Parallel ? 1.0 : 0.0);
+    view->SetValue(7, in.HideBackFaces ? 1.0 : 0.0);
+    if (!output->GetFieldData())
+    {
+      vtkNew<vtkFieldData> fd;
+      output->SetFieldData(fd);
+    }
+    output->GetFieldData()->RemoveArray(vtkMultiscaleOctree::CutViewArrayName());
+    output->GetFieldData()->AddArray(view);
+  }
   // a cut that draws nothing says why (the root alone is one point: no triangle)
   const uint8_t rootState = I.State->GetValue(0);
   if (stats.Drawn == 0)

@@ -320,8 +320,8 @@ public:
     return this->Scan() && this->PlaceRoot() && this->SortPoints() && this->ChooseLevel() &&
       this->MakeTree() && this->StoreSurface() && this->MakeIncidence() &&
       this->ComputeNormals() && this->MakeEdges() && this->MakeClusters() &&
-      this->FindPassingTriangles() && this->ComputeCells() && this->ComputeShapeErrors() &&
-      this->Finish();
+      this->FindPassingTriangles() && this->ComputeCells() && this->TightenCones() &&
+      this->ComputeShapeErrors() && this->Finish();
   }
 
 private:
@@ -338,6 +338,7 @@ private:
   bool ComputeCells();
   bool ComputeShapeErrors();
   bool MakeClusters();
+  bool TightenCones();
   bool Finish();
 
   bool Fail(const std::string& why)
@@ -1586,8 +1587,6 @@ bool MeshBuild::ComputeCells()
   {
     return false;
   }
-  std::vector<int64_t>().swap(this->IncStart);
-  std::vector<int32_t>().swap(this->Inc);
   std::vector<std::pair<int32_t, Quadric>>().swap(this->BoundaryQuadric);
 
   // coarser levels, from their children's clusters
@@ -1649,14 +1648,95 @@ bool MeshBuild::ComputeCells()
       return false;
     }
   }
-  std::vector<std::pair<int32_t, int32_t>>().swap(this->Pass);
   std::vector<int64_t>().swap(this->TriSource);
   return true;
 }
 
+bool MeshBuild::TightenCones()
+{
+  this->Report.Phase("cones", 0.8, 0.88);
+  OctreeArrays& o = this->Out;
+  const int L = this->L;
+  // unit normals of the triangles (zero for degenerate ones)
+  std::vector<float> normal(3 * this->Tris);
+  this->For(this->Tris, 16384, [&](int64_t b, int64_t e) {
+    for (int64_t t = b; t < e; ++t)
+    {
+      double n[3];
+      this->Face(t, n);
+      for (int a = 0; a < 3; ++a)
+        normal[3 * t + a] = static_cast<float>(n[a]);
+    }
+  });
+  // Above the leaves, eq. (2) bounds the children's cones, and its slack grows level after
+  // level: measured on a dense scan (Lucy subdivided), the median angle at level 5 was 2.25
+  // rad against 1.29 for the normals really there, and 64 % of the cells (34 % exact) could be
+  // neither front- nor back-facing. Here every inner cell's angle is the largest angle from its
+  // axis to the normal of a triangle that meets it: at its points, or passing through it (then
+  // recorded at it or at a descendant). Every normal stays inside; the angle is the least that
+  // holds them.
+  std::vector<double> minDot(this->Nodes, 2.0);
+  std::vector<int32_t> widest(this->Nodes, -1); // the triangle reaching it
+  auto consider = [&](int64_t node, int32_t t) {
+    const float* n = &normal[3 * t];
+    if (n[0] == 0 && n[1] == 0 && n[2] == 0)
+      return;
+    const float* a = &o.ConeAxis[3 * node];
+    const double d = double(a[0]) * n[0] + double(a[1]) * n[1] + double(a[2]) * n[2];
+    if (d < minDot[node])
+    {
+      minDot[node] = d;
+      widest[node] = t;
+    }
+  };
+  for (int l = L - 1; l >= 0; --l)
+  {
+    const int64_t base = this->Offset[l], count = this->Offset[l + 1] - base;
+    this->For(count, 64, [&](int64_t b, int64_t e) {
+      for (int64_t n = base + b; n < base + e; ++n)
+      {
+        for (int64_t p = o.FirstPoint[n], end = this->PointEnd(n); p < end; ++p)
+        {
+          for (int64_t j = this->IncStart[p]; j < this->IncStart[p + 1]; ++j)
+          {
+            consider(n, this->Inc[j]);
+          }
+        }
+      }
+    });
+    if (!this->Report(0.9 * double(L - l) / double(L)))
+    {
+      return false;
+    }
+  }
+  for (const auto& pass : this->Pass)
+  {
+    for (int64_t n = pass.first; n >= 0; n = o.Parent[n])
+    {
+      consider(n, pass.second);
+    }
+  }
+  for (int64_t n = 0; n < this->Offset[L]; ++n)
+  {
+    if (o.ConeAngle[n] >= float(Pi) || widest[n] < 0)
+    {
+      continue; // no meaningful axis (normals cancel), or no area: keep pi / the bound
+    }
+    const double axis[3] = { o.ConeAxis[3 * n], o.ConeAxis[3 * n + 1], o.ConeAxis[3 * n + 2] };
+    const float* w = &normal[3 * widest[n]];
+    const double far[3] = { w[0], w[1], w[2] };
+    // the exact angle never exceeds eq. (2)'s bound; rounding must not make it larger either
+    o.ConeAngle[n] = std::min(o.ConeAngle[n], static_cast<float>(AngleBetween(axis, far)));
+  }
+  std::vector<int64_t>().swap(this->IncStart);
+  std::vector<int32_t>().swap(this->Inc);
+  std::vector<std::pair<int32_t, int32_t>>().swap(this->Pass);
+  return this->Report(1.0);
+}
+
 bool MeshBuild::ComputeShapeErrors()
 {
-  this->Report.Phase("shape errors", 0.8, 0.98);
+  this->Report.Phase("shape errors", 0.88, 0.99);
   OctreeArrays& o = this->Out;
   const int L = this->L;
   // SRCC eq. (3), per cluster: the spread along its normal of its points, relative to its

@@ -11,40 +11,59 @@ namespace plod
 
 namespace
 {
-/// True when the triangle of representatives `rep` is turned over: its face normal opposes the
-/// normals of all three corners.
-bool TurnedOver(const OctreeView& v, const int64_t rep[3])
+/// The drawn triangle of representatives `rep`: corners, their normals, its face normal.
+struct Drawn
 {
-  const float* x[3];
-  const float* n[3];
-  for (int k = 0; k < 3; ++k)
+  const float* X[3];
+  const float* N[3];
+  double F[3];
+  Drawn(const OctreeView& v, const int64_t rep[3])
   {
-    if (rep[k] >= 0)
+    for (int k = 0; k < 3; ++k)
     {
-      x[k] = &v.ClusterVertex[3 * rep[k]];
-      n[k] = &v.ClusterNormal[3 * rep[k]];
+      if (rep[k] >= 0)
+      {
+        this->X[k] = &v.ClusterVertex[3 * rep[k]];
+        this->N[k] = &v.ClusterNormal[3 * rep[k]];
+      }
+      else
+      {
+        this->X[k] = &v.Points[3 * (-1 - rep[k])];
+        this->N[k] = &v.Normals[3 * (-1 - rep[k])];
+      }
     }
-    else
-    {
-      x[k] = &v.Points[3 * (-1 - rep[k])];
-      n[k] = &v.Normals[3 * (-1 - rep[k])];
-    }
+    const double e1[3] = { double(this->X[1][0]) - this->X[0][0],
+      double(this->X[1][1]) - this->X[0][1], double(this->X[1][2]) - this->X[0][2] };
+    const double e2[3] = { double(this->X[2][0]) - this->X[0][0],
+      double(this->X[2][1]) - this->X[0][1], double(this->X[2][2]) - this->X[0][2] };
+    this->F[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    this->F[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    this->F[2] = e1[0] * e2[1] - e1[1] * e2[0];
   }
-  const double e1[3] = { double(x[1][0]) - x[0][0], double(x[1][1]) - x[0][1],
-    double(x[1][2]) - x[0][2] };
-  const double e2[3] = { double(x[2][0]) - x[0][0], double(x[2][1]) - x[0][1],
-    double(x[2][2]) - x[0][2] };
-  const double f[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-    e1[0] * e2[1] - e1[1] * e2[0] };
-  for (int k = 0; k < 3; ++k)
+  /// Turned over: the face normal opposes the normals of all three corners.
+  bool TurnedOver() const
   {
-    if (f[0] * n[k][0] + f[1] * n[k][1] + f[2] * n[k][2] >= 0)
+    for (int k = 0; k < 3; ++k)
     {
-      return false;
+      if (this->F[0] * this->N[k][0] + this->F[1] * this->N[k][1] + this->F[2] * this->N[k][2] >=
+        0)
+      {
+        return false;
+      }
     }
+    return true;
   }
-  return true;
-}
+  /// Facing away from the eye (or along the projection direction).
+  bool FacesAway(const PatchOptions& o) const
+  {
+    double d[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      d[a] = o.Parallel ? -o.ProjectionDirection[a] : o.Eye[a] - double(this->X[0][a]);
+    }
+    return this->F[0] * d[0] + this->F[1] * d[1] + this->F[2] * d[2] < 0;
+  }
+};
 }
 
 bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
@@ -55,6 +74,7 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   out.NodesVisited = 0;
   out.HiddenSkipped = 0;
   out.FoldsDropped = 0;
+  out.BackFacesCulled = 0;
   if (v.NumberOfNodes == 0)
   {
     return true;
@@ -166,11 +186,19 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
         ++out.HiddenSkipped;
         continue;
       }
-      if (options.DropFolds && (rep[0] >= 0 || rep[1] >= 0 || rep[2] >= 0) &&
-        TurnedOver(v, rep))
+      if (options.DropFolds || options.CullBackFaces)
       {
-        ++out.FoldsDropped;
-        continue;
+        const Drawn tri(v, rep);
+        if (options.DropFolds && (rep[0] >= 0 || rep[1] >= 0 || rep[2] >= 0) && tri.TurnedOver())
+        {
+          ++out.FoldsDropped;
+          continue;
+        }
+        if (options.CullBackFaces && tri.FacesAway(options))
+        {
+          ++out.BackFacesCulled;
+          continue;
+        }
       }
       for (int k = 0; k < 3; ++k)
       {

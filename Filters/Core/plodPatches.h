@@ -24,6 +24,13 @@
  * of the drawn triangles, +0.8 dB). Dropping them is the one exception to the closure property
  * below, which holds for the drawn and dropped triangles together.
  *
+ * Back faces: when the selector hid back-facing cells (a closed surface seen from outside), it
+ * passes the eye along; then every drawn triangle that faces away from the eye is skipped too.
+ * Cells near the contour hold both sides of the surface, and on a detailed scan they are most
+ * of the cut: measured, 40 to 47 % of the triangles drawn faced away. Seen from outside, a
+ * closed surface only ever shows front faces (the first surface a ray meets is entered), so
+ * nothing visible is lost.
+ *
  * Hidden cells: a triangle is drawn when one of its representatives is drawn. When all three are
  * hidden it is skipped if one of them faces away (its cone holds the triangle's normal, so the
  * triangle faces away too), or if all three were culled by one common frustum plane (then the
@@ -53,12 +60,18 @@ struct PatchResult
   int64_t NodesVisited = 0;       // nodes reached by the walk
   int64_t HiddenSkipped = 0;      // owned triangles skipped among hidden cells
   int64_t FoldsDropped = 0;       // turned-over triangles not drawn (DropFolds)
+  int64_t BackFacesCulled = 0;    // triangles facing away from the eye (CullBackFaces)
 };
 
 /// Options of GeneratePatches.
 struct PatchOptions
 {
   bool DropFolds = true;
+  /// Skip triangles facing away from the eye (a closed surface seen from outside).
+  bool CullBackFaces = false;
+  double Eye[3] = { 0, 0, 0 }; // octree-local coordinates (relative to the origin)
+  bool Parallel = false;
+  double ProjectionDirection[3] = { 0, 0, -1 }; // parallel projection
 };
 
 /// Buffers kept between frames so that a frame allocates (and page-faults) nothing new.
