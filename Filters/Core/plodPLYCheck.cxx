@@ -518,7 +518,8 @@ private:
       }
       else
       {
-        ok = this->Fail(HeaderLine(number) + "unknown header keyword " + Quote(w[0]));
+        ok = this->Fail(HeaderLine(number) + "unknown header keyword " + Quote(w[0]) +
+          " (is end_header missing?)");
       }
       if (!ok)
       {
@@ -1072,12 +1073,14 @@ private:
       {
         return false;
       }
-      // an item takes at least two bytes (a digit and a separator), so a count that cannot fit
+      // an item takes at least two bytes (a separator and a digit), so a count that cannot fit
       // in the rest of the file fails here rather than after walking it
-      if (count > this->In.Left() / 2 + 1)
+      if (count * 2 > this->In.Left())
       {
         return this->Fail(Row(e, row) + " list " + Quote(p.Name) + ": count " +
-          std::to_string(count) + " is more than the rest of the file can hold" + OnLine());
+          std::to_string(count) + " needs at least " + std::to_string(count * 2) +
+          " more bytes but only " + std::to_string(this->In.Left()) + " are left in the file" +
+          OnLine());
       }
       for (int64_t k = 0; k < count; ++k)
       {
