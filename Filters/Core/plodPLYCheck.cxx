@@ -1068,11 +1068,6 @@ private:
           std::to_string(static_cast<int64_t>(value)) + OnLine());
       }
       const int64_t count = static_cast<int64_t>(value);
-      const ListRole role = this->Role(e, p);
-      if (!this->CheckListLength(e, p, role, row, count, OnLine()))
-      {
-        return false;
-      }
       // an item takes at least two bytes (a separator and a digit), so a count that cannot fit
       // in the rest of the file fails here rather than after walking it
       if (count * 2 > this->In.Left())
@@ -1081,6 +1076,11 @@ private:
           std::to_string(count) + " needs at least " + std::to_string(count * 2) +
           " more bytes but only " + std::to_string(this->In.Left()) + " are left in the file" +
           OnLine());
+      }
+      const ListRole role = this->Role(e, p);
+      if (!this->CheckListLength(e, p, role, row, count, OnLine()))
+      {
+        return false;
       }
       for (int64_t k = 0; k < count; ++k)
       {
