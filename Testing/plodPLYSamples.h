@@ -378,6 +378,13 @@ inline std::vector<PLYSample> ReaderLimitPLYSamples()
     v.push_back(MakeCorruptSample(
       "element_named_vertex_index_sets", h + t.VertexRows() + t.FaceRows(), "'vertex_index'"));
   }
+  {
+    TetraPLY t;
+    std::string b = t.Bytes();
+    b.pop_back(); // the last face row's newline
+    v.push_back(MakeCorruptSample(
+      "ascii_without_final_newline", b, "the last line (line 17) does not end with a newline"));
+  }
   return v;
 }
 

@@ -456,7 +456,16 @@ private:
     }
     if (!complete)
     {
-      return this->Fail("header line 1: the file ends after 'ply' (no format, no end_header)");
+      return this->Fail(atEnd
+          ? "header line 1: the file ends after 'ply' (no format, no end_header)"
+          : "no end_header line in the first " + std::to_string(MaxPLYHeaderBytes) + " bytes");
+    }
+    if (this->Limits.MaxLineBytes > 0 &&
+      static_cast<int64_t>(line.size()) + 3 > this->Limits.MaxLineBytes)
+    {
+      return this->Fail("header line 1: the line has " + std::to_string(line.size() + 3) +
+        " bytes; " + this->ReaderName() + " reads at most " +
+        std::to_string(this->Limits.MaxLineBytes));
     }
     bool haveFormat = false;
     int64_t number = 1;
@@ -1099,6 +1108,9 @@ private:
           Quote(this->Word) + OnLine() + " (each row is one line)");
       case Token::LongLine:
         return this->LongLineError();
+      case Token::EndOfFile:
+        this->EndsWithoutNewline = true;
+        return true;
       default:
         return true;
     }
@@ -1118,6 +1130,11 @@ private:
         }
       }
     }
+    if (this->EndsWithoutNewline && this->Limits.FinalNewline)
+    {
+      return this->Fail("the last line (line " + std::to_string(this->Line) +
+        ") does not end with a newline; " + this->ReaderName() + " loses such a line");
+    }
     // after the last row: whitespace does not count
     int64_t trailing = 0;
     for (int c = this->In.Get(); c >= 0; c = this->In.Get())
@@ -1136,6 +1153,7 @@ private:
   int64_t Line = 0;      ///< ASCII body: number of the current line
   int64_t LineStart = 0; ///< ASCII body: offset of the current line's first byte
   std::string Word;
+  bool EndsWithoutNewline = false; ///< ASCII body: the last row reaches the end of the file
 };
 
 } // namespace
@@ -1180,6 +1198,7 @@ PLYReaderLimits VTKPLYReaderLimits()
   limits.MaxFaceSize = 255;
   limits.VertexThenFace = true;
   limits.VertexIndexAtLineEnd = true;
+  limits.FinalNewline = true;
   return limits;
 }
 

@@ -41,8 +41,9 @@
  * Reader limits (PLYReaderLimits, optional): what a particular reader cannot take although
  * the format allows it. VTKPLYReaderLimits() gives those of vtkPLYReader in VTK 9.1 (Turk's
  * code): lines read into 4096-byte buffers, a face's vertex count kept in an unsigned char,
- * elements read in file order with only `vertex` and `face` consumed, and every header line's
- * first "vertex_index" overwritten with "vertex_indices".
+ * elements read in file order with only `vertex` and `face` consumed, every header line's
+ * first "vertex_index" overwritten with "vertex_indices", and a last ASCII line without a
+ * newline dropped.
  *
  * Messages name the problem and where it is: the element and its row (rows count from 0), the
  * property, and the byte offset (binary) or line number (ASCII, lines count from 1).
@@ -119,12 +120,16 @@ struct PLYReaderLimits
   /// vertex_indices at the end of its line (comments excepted): Turk's reader replaces the first
   /// "vertex_index" of every line by "vertex_indices" and drops the rest of the line.
   bool VertexIndexAtLineEnd = false;
+  /// The last row of an ASCII body ends with a newline: Turk's reader reads lines with
+  /// std::getline and drops a last line that reaches the end of the file.
+  bool FinalNewline = false;
 };
 
 /// The limits of vtkPLYReader in VTK 9.1: lines of at most 4000 bytes (it reads 4096-byte
 /// buffers and writes past the replaced word), faces of at most 255 vertices (the count is kept
 /// in an unsigned char), `vertex` then `face` first (it reads only those two elements, in file
-/// order, without skipping others), and "vertex_index" only at the end of header lines.
+/// order, without skipping others), "vertex_index" only at the end of header lines, and a
+/// newline after the last ASCII row.
 PLYReaderLimits VTKPLYReaderLimits();
 
 /// Longest header the check reads before deciding that `end_header` is missing.
