@@ -6,17 +6,23 @@
 #include "plodPLYSamples.h"
 #include "plodTestUtilities.h"
 
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkNew.h"
 #include "vtkOBJWriter.h"
 #include "vtkPLYFileCheck.h"
+#include "vtkPLYReader.h"
 #include "vtkPolyData.h"
 #include "vtkSTLWriter.h"
 #include "vtkXMLPolyDataWriter.h"
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <filesystem>
+#include <random>
 #include <sstream>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace
@@ -250,6 +256,96 @@ TEST_F(PLYFileCheck, OtherFormatsStillRead)
     ASSERT_NE(model, nullptr) << err;
     EXPECT_EQ(model->GetNumberOfPolys(), 12);
   }
+}
+
+TEST_F(PLYFileCheck, WhatPassesTheCheckReadsWithoutACrash)
+{
+  // damaged copies of the valid samples (byte changes, insertions, deletions, cuts, header
+  // numbers replaced): every file the check accepts is read by vtkPLYReader in a child process,
+  // which must end normally with the checked counts and every polygon's ids in range
+  std::mt19937 rng(99);
+  const char* numbers[] = { "0", "1", "3", "5", "255", "256", "65535", "2147483647", "-1" };
+  int accepted = 0;
+  for (int trial = 0; trial < 1500; ++trial)
+  {
+    std::string bytes = Valid()[rng() % Valid().size()].Bytes;
+    const size_t end = bytes.find("end_header");
+    for (int e = 0, edits = 1 + static_cast<int>(rng() % 2); e < edits && !bytes.empty(); ++e)
+    {
+      const size_t at = rng() % bytes.size();
+      switch (rng() % 5)
+      {
+        case 0:
+          bytes[at] = static_cast<char>(rng() & 0xff);
+          break;
+        case 1:
+          bytes.insert(at, 1 + rng() % 4, static_cast<char>(rng() & 0xff));
+          break;
+        case 2:
+          bytes.erase(at, 1 + rng() % 4);
+          break;
+        case 3:
+          bytes.resize(at);
+          break;
+        default:
+        {
+          const size_t digit = bytes.find_first_of("0123456789", rng() % end);
+          if (digit < end)
+          {
+            const size_t stop = bytes.find_first_not_of("0123456789", digit);
+            bytes.replace(digit, stop - digit, numbers[rng() % 9]);
+          }
+        }
+      }
+    }
+    const std::string path = Write("damaged.ply", bytes);
+    vtkNew<vtkPLYFileCheck> check;
+    check->SetFileName(path.c_str());
+    if (!check->Check())
+    {
+      continue;
+    }
+    ++accepted;
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0)
+    {
+      std::freopen("/dev/null", "w", stderr);
+      alarm(30);
+      vtkNew<vtkPLYReader> reader;
+      reader->SetFileName(path.c_str());
+      reader->Update();
+      vtkPolyData* out = reader->GetOutput();
+      if (out->GetNumberOfPoints() != check->GetNumberOfVertices() ||
+        out->GetNumberOfPolys() != check->GetNumberOfFaces())
+      {
+        _exit(2);
+      }
+      vtkIdType n;
+      const vtkIdType* ids;
+      auto cells = vtk::TakeSmartPointer(out->GetPolys()->NewIterator());
+      for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
+      {
+        cells->GetCurrentCell(n, ids);
+        for (vtkIdType k = 0; k < n; ++k)
+        {
+          if (ids[k] < 0 || ids[k] >= out->GetNumberOfPoints())
+          {
+            _exit(3);
+          }
+        }
+      }
+      _exit(0);
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+      << "trial " << trial << ": vtkPLYReader "
+      << (WIFEXITED(status) ? "misread (exit " + std::to_string(WEXITSTATUS(status)) + ")"
+                            : "died of signal " + std::to_string(WTERMSIG(status)))
+      << " a file the check accepted";
+  }
+  EXPECT_GT(accepted, 100) << "some damage leaves a sound file (e.g. a changed coordinate)";
 }
 
 TEST(PLYFileCheckData, StanfordFilesPassAndRead)
