@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 /**
  * @file plodTestUtilities.h
- * @brief Inputs the tests and benchmarks generate, readers for the Stanford data, and an
- * observer that captures VTK errors. Header-only, used by tests, benchmarks and examples.
+ * @brief Inputs the tests and benchmarks generate, model readers that check the file first (so
+ * that a corrupt file gives a message, not a crash), and an observer that captures VTK errors.
+ * Header-only, used by tests, benchmarks and examples.
  */
 #ifndef plodTestUtilities_h
 #define plodTestUtilities_h
@@ -14,6 +15,7 @@
 #include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkOBJReader.h"
+#include "vtkPLYFileCheck.h"
 #include "vtkPLYReader.h"
 #include "vtkSTLReader.h"
 #include "vtkXMLPolyDataReader.h"
@@ -28,8 +30,12 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <exception>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -361,14 +367,91 @@ inline vtkSmartPointer<vtkPolyData> MakeSoup(unsigned seed, int triangles, doubl
   return MakeMesh(xyz, tri);
 }
 
-/// Reads a PLY file (mesh or range scan); nullptr when it cannot be read.
+/// Says why `file` cannot be read: one line on stderr, "<file>: <why>".
+inline void ReportUnreadable(const std::string& file, const std::string& why)
+{
+  std::fprintf(stderr, "%s: %s\n", file.c_str(), why.c_str());
+}
+
+/// True when `file` is a regular, non-empty file that can be opened; otherwise reports why.
+inline bool CheckModelFile(const std::string& file)
+{
+  struct stat st;
+  if (file.empty() || stat(file.c_str(), &st) != 0)
+  {
+    ReportUnreadable(
+      file, std::string("cannot open: ") + std::strerror(file.empty() ? ENOENT : errno));
+    return false;
+  }
+  if (S_ISDIR(st.st_mode))
+  {
+    ReportUnreadable(file, "is a directory, not a model file");
+    return false;
+  }
+  if (!S_ISREG(st.st_mode))
+  {
+    ReportUnreadable(file, "is not a regular file");
+    return false;
+  }
+  if (st.st_size == 0)
+  {
+    ReportUnreadable(file, "the file is empty");
+    return false;
+  }
+  if (std::FILE* f = std::fopen(file.c_str(), "rb"))
+  {
+    std::fclose(f);
+    return true;
+  }
+  ReportUnreadable(file, std::string("cannot open: ") + std::strerror(errno));
+  return false;
+}
+
+/// Runs a reader; false (and a report) when it throws, e.g. std::bad_alloc for a binary STL
+/// whose triangle count lies.
+inline bool UpdateReader(vtkAlgorithm* reader, const std::string& file)
+{
+  try
+  {
+    reader->Update();
+    return true;
+  }
+  catch (const std::exception& e)
+  {
+    ReportUnreadable(file, std::string("the reader failed: ") + e.what());
+  }
+  return false;
+}
+
+/**
+ * Reads a PLY file (mesh or range scan). vtkPLYFileCheck reads it first: a corrupt file (cut
+ * short, counts that lie, indices out of range, ...) or one that VTK 9.1's vtkPLYReader cannot
+ * take gives nullptr and one line on stderr, "<file>: <what is wrong and where>", instead of a
+ * crash in the reader. nullptr with a line too when the file holds no points.
+ */
 inline vtkSmartPointer<vtkPolyData> ReadPLY(const std::string& file)
 {
+  vtkNew<vtkPLYFileCheck> check;
+  check->SetFileName(file.c_str());
+  if (!check->Check())
+  {
+    ReportUnreadable(file, check->GetErrorMessage());
+    return nullptr;
+  }
+  if (check->GetNumberOfVertices() == 0)
+  {
+    ReportUnreadable(file, "the file holds no vertices");
+    return nullptr;
+  }
   vtkNew<vtkPLYReader> reader;
   reader->SetFileName(file.c_str());
-  reader->Update();
+  if (!UpdateReader(reader, file))
+  {
+    return nullptr;
+  }
   if (reader->GetOutput()->GetNumberOfPoints() == 0)
   {
+    ReportUnreadable(file, "vtkPLYReader read no points");
     return nullptr;
   }
   auto pd = vtkSmartPointer<vtkPolyData>::New();
@@ -376,15 +459,27 @@ inline vtkSmartPointer<vtkPolyData> ReadPLY(const std::string& file)
   return pd;
 }
 
-/// Reads a model by extension: PLY, STL, OBJ or VTP; nullptr when it cannot be read.
+/**
+ * Reads a model by extension: PLY (checked first, see ReadPLY), STL, OBJ or VTP. nullptr when
+ * it cannot be read, with one line on stderr saying why for a missing, empty or unreadable file,
+ * a directory, an unknown extension, a reader that throws, or a model without points (VTK's
+ * STL, OBJ and XML readers may print their own errors before it).
+ */
 inline vtkSmartPointer<vtkPolyData> ReadModel(const std::string& file)
 {
-  std::string ext = file.substr(file.find_last_of('.') == std::string::npos ? file.size()
-                                                                            : file.find_last_of('.'));
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const size_t slash = file.find_last_of('/');
+  const size_t dot = file.find_last_of('.');
+  std::string ext =
+    dot == std::string::npos || (slash != std::string::npos && dot < slash) ? "" : file.substr(dot);
+  std::transform(
+    ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (ext == ".ply")
   {
     return ReadPLY(file);
+  }
+  if (!CheckModelFile(file))
+  {
+    return nullptr;
   }
   vtkSmartPointer<vtkAlgorithm> reader;
   if (ext == ".stl")
@@ -407,12 +502,23 @@ inline vtkSmartPointer<vtkPolyData> ReadModel(const std::string& file)
   }
   else
   {
+    ReportUnreadable(file,
+      (ext.empty() ? std::string("no file extension") : "unknown model type '" + ext + "'") +
+        " (PLY, STL, OBJ or VTP)");
     return nullptr;
   }
-  reader->Update();
+  if (!UpdateReader(reader, file))
+  {
+    return nullptr;
+  }
   auto pd = vtkSmartPointer<vtkPolyData>::New();
   pd->ShallowCopy(reader->GetOutputDataObject(0));
-  return pd->GetNumberOfPoints() > 0 ? pd : nullptr;
+  if (pd->GetNumberOfPoints() == 0)
+  {
+    ReportUnreadable(file, std::string(reader->GetClassName()) + " read no points");
+    return nullptr;
+  }
+  return pd;
 }
 
 /**

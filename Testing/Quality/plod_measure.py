@@ -52,7 +52,8 @@ from vtkmodules.vtkRenderingLOD import vtkLODActor, vtkQuadricLODActor
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plod_metrics as metrics  # noqa: E402
 from perceptual_lod import (vtkMultiscaleOctreeBuilder, vtkMultiscaleOctreeCutter,  # noqa: E402
-                            vtkMultiscalePatchGenerator, vtkPerceptualLODSelector)
+                            vtkMultiscalePatchGenerator, vtkPerceptualLODSelector,
+                            vtkPLYFileCheck)
 
 METHODS = {
     # name: (error model, motion model, foveation)
@@ -90,9 +91,18 @@ def generated_model(resolution, noise=0.25, seed=11):
 
 
 def read_ply(path):
+    """The PLY file as vtkPolyData. vtkPLYFileCheck reads it first: a corrupt file (cut short,
+    counts that lie, indices out of range, ...) raises ValueError saying what is wrong and where,
+    instead of crashing vtkPLYReader; so does a file without points."""
+    check = vtkPLYFileCheck()
+    check.SetFileName(path)
+    if not check.Check():
+        raise ValueError(f'{path}: {check.GetErrorMessage()}')
     reader = vtkPLYReader()
     reader.SetFileName(path)
     reader.Update()
+    if reader.GetOutput().GetNumberOfPoints() == 0:
+        raise ValueError(f'{path}: no points')
     pd = vtkPolyData()
     pd.DeepCopy(reader.GetOutput())
     return pd

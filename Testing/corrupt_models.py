@@ -1,0 +1,116 @@
+"""End-to-end check that a program given a corrupt or missing model fails cleanly: it exits with
+a non-zero status (not killed by a signal) and says on stderr which file is wrong and why.
+
+    corrupt_models.py <program> [arguments...]
+
+The models are written to a temporary folder; each one's path is appended to the arguments in
+turn. Exit status 0 when every model is handled so; the lines printed say what was seen.
+"""
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+
+TETRA = [(1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)]
+FACES = [(0, 1, 2), (0, 3, 1), (0, 2, 3), (1, 3, 2)]
+
+
+def header(fmt, vertices=4, faces=4, count='uchar'):
+    return (f'ply\nformat {fmt} 1.0\nelement vertex {vertices}\nproperty float x\n'
+            f'property float y\nproperty float z\nelement face {faces}\n'
+            f'property list {count} int vertex_indices\nend_header\n').encode()
+
+
+def binary_body(faces=FACES, counts=None):
+    body = b''.join(struct.pack('<3f', *p) for p in TETRA)
+    for k, f in enumerate(faces):
+        n = counts[k] if counts and k < len(counts) else len(f)
+        body += struct.pack('<B', n) + struct.pack(f'<{len(f)}i', *f)
+    return body
+
+
+def ascii_body(faces=FACES):
+    rows = [' '.join(str(c) for c in p) for p in TETRA]
+    rows += [' '.join(str(i) for i in (len(f),) + f) for f in faces]
+    return ('\n'.join(rows) + '\n').encode()
+
+
+def models():
+    """(file name, bytes or None for a path that is not a regular file, expected message part)"""
+    full = header('binary_little_endian') + binary_body()
+    swapped = (b'ply\nformat ascii 1.0\nelement face 4\nproperty list uchar int vertex_indices\n'
+               b'element vertex 4\nproperty float x\nproperty float y\nproperty float z\n'
+               b'end_header\n')
+    asc = ascii_body()
+    split = asc.index(b'3 0 1 2')
+    return [
+        ('cut_binary.ply', full[:len(full) - 30],
+         "element 'face' row 1 list 'vertex_indices': count 3 needs 12 bytes"),
+        ('index_out_of_range.ply', header('ascii') + ascii_body([(0, 1, 2), (0, 3, 9)] + FACES[2:]),
+         "element 'face' row 1 list 'vertex_indices': vertex index 9 is not in [0, 4)"),
+        ('negative_index.ply',
+         header('binary_little_endian') + binary_body([(0, 1, -1)] + FACES[1:]),
+         'vertex index -1 is not in [0, 4)'),
+        ('list_count_255.ply', header('binary_little_endian') + binary_body(counts=[3, 3, 3, 255]),
+         'count 255 needs 1020 bytes but only 12'),
+        ('vertex_count_lies.ply', header('binary_little_endian', vertices=9) + binary_body(),
+         "the file ends inside element 'vertex' row 8 of 9"),
+        ('face_count_lies.ply', header('ascii', faces=7) + asc,
+         "the file ends inside element 'face' row 4 of 7"),
+        ('face_before_vertex.ply', swapped + asc[split:] + asc[:split], "needs 'vertex' first"),
+        ('no_end_header.ply', header('ascii').replace(b'end_header\n', b'') + asc,
+         'is end_header missing?'),
+        ('garbage.ply', bytes((i * 73 + 41) % 256 for i in range(2000)), 'not a PLY file'),
+        ('empty.ply', b'', 'the file is empty'),
+        ('missing.ply', None, 'cannot open: No such file or directory'),
+        ('folder.ply', 'dir', 'is a directory'),
+        ('empty.stl', b'', 'the file is empty'),
+        ('missing.obj', None, 'cannot open: No such file or directory'),
+        ('folder.vtp', 'dir', 'is a directory'),
+    ]
+
+
+def main():
+    if len(sys.argv) < 2:
+        print(__doc__)
+        return 2
+    command = sys.argv[1:]
+    failures = 0
+    with tempfile.TemporaryDirectory(prefix='plod_corrupt_') as folder:
+        for name, content, expect in models():
+            path = os.path.join(folder, name)
+            if content == 'dir':
+                os.mkdir(path)
+            elif content is not None:
+                with open(path, 'wb') as f:
+                    f.write(content)
+            try:
+                run = subprocess.run(command + [path], capture_output=True, text=True,
+                                     errors='replace', timeout=300)
+            except subprocess.TimeoutExpired:
+                print(f'FAIL {name}: no answer in 300 s')
+                failures += 1
+                continue
+            problems = []
+            if run.returncode < 0:
+                problems.append(f'killed by signal {-run.returncode}')
+            elif run.returncode == 0:
+                problems.append('exit status 0')
+            if f'{path}: ' not in run.stderr or expect not in run.stderr:
+                problems.append(f'no line "{path}: ...{expect}..." on stderr')
+            if 'cannot read a model from' not in run.stderr:
+                problems.append('no "cannot read a model from" line')
+            if problems:
+                failures += 1
+                print(f'FAIL {name}: ' + '; '.join(problems))
+                print('  stderr: ' + run.stderr.strip().replace('\n', '\n          '))
+            else:
+                line = next(x for x in run.stderr.splitlines() if x.startswith(path + ': '))
+                print(f'ok   {name}: exit {run.returncode}: {line[len(folder) + 1:]}')
+    print(f'{failures} failure(s)')
+    return 1 if failures else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
