@@ -39,8 +39,7 @@
  * opened holes in thin parts).
  *
  * Default finest level (FinestLevel = -1): for meshes, the shallowest level whose occupied cells
- * separate at least half of the distinct input points (most leaves then hold one or two
- * points); for clouds, the deepest level whose occupied cells hold at least 4 points on
+ * number at least a quarter of the distinct input points (leaves hold about four points); for clouds, the deepest level whose occupied cells hold at least 4 points on
  * average. It is lowered, with a warning saying to which level and why, when the estimated
  * memory exceeds the limit; GetFinestLevelReason() says which rule decided. An explicit level
  * whose estimated memory exceeds MemoryLimit is an error.

@@ -158,16 +158,18 @@ inline vtkSmartPointer<vtkPolyData> MakePlane(double z)
  * self-intersects for noise < 0.5). About 2 * res * res triangles.
  */
 inline vtkSmartPointer<vtkPolyData> MakeBlob(unsigned seed, int res, double noise,
-  double radius = 1.0, const double centre[3] = nullptr)
+  double radius = 1.0, const double centre[3] = nullptr, bool floatPoints = false)
 {
   vtkNew<vtkSphereSource> sphere;
   sphere->SetThetaResolution(res);
   sphere->SetPhiResolution(res);
   sphere->SetRadius(1.0);
-  sphere->SetOutputPointsPrecision(vtkAlgorithm::DOUBLE_PRECISION);
+  sphere->SetOutputPointsPrecision(
+    floatPoints ? vtkAlgorithm::SINGLE_PRECISION : vtkAlgorithm::DOUBLE_PRECISION);
   sphere->Update();
   auto pd = vtkSmartPointer<vtkPolyData>::New();
-  pd->DeepCopy(sphere->GetOutput());
+  pd->ShallowCopy(sphere->GetOutput());
+  sphere->GetOutput()->Initialize(); // no second copy of a large model
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   double waves[6][4];

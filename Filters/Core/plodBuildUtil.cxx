@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 
 namespace plod
@@ -172,12 +173,36 @@ Reporter::Reporter(const ProgressCallback& callback)
 {
 }
 
+namespace
+{
+/// Resident and peak resident memory in MB (Linux), for the timing report.
+void Resident(double& now, double& peak)
+{
+  now = peak = -1;
+  if (FILE* f = std::fopen("/proc/self/status", "r"))
+  {
+    char line[256];
+    while (std::fgets(line, sizeof(line), f))
+    {
+      if (std::strncmp(line, "VmRSS:", 6) == 0)
+        now = std::atof(line + 6) / 1024.0;
+      else if (std::strncmp(line, "VmHWM:", 6) == 0)
+        peak = std::atof(line + 6) / 1024.0;
+    }
+    std::fclose(f);
+  }
+}
+}
+
 void Reporter::Finish()
 {
   if (this->Timing && this->Name)
   {
     const double now = Seconds();
-    std::fprintf(stderr, "plod build: %-16s %9.1f ms\n", this->Name, 1e3 * (now - this->Clock));
+    double rss, peak;
+    Resident(rss, peak);
+    std::fprintf(stderr, "plod build: %-16s %9.1f ms   resident %8.1f MB, peak %8.1f MB\n",
+      this->Name, 1e3 * (now - this->Clock), rss, peak);
     this->Clock = now;
   }
 }

@@ -44,6 +44,14 @@ double EstimateBuildMemory(int64_t points, int64_t triangles, int64_t nodes, boo
   return out + std::max(work, cloudWork);
 }
 
+namespace
+{
+/// Points per leaf the default level aims at (average). Leaves of 4 rather than 2 points halve
+/// the nodes and the build's memory (302 to 152 bytes per triangle over its input on a 4M model)
+/// at no measured cost in the images: an opened leaf draws the input's own triangles anyway.
+constexpr int64_t LeafPoints = 4;
+}
+
 int ChooseFinestLevel(const int64_t cells[MaxFinestLevel + 1], int64_t points, int64_t triangles,
   bool cloud, double memoryLimit, std::string* reason)
 {
@@ -76,7 +84,7 @@ int ChooseFinestLevel(const int64_t cells[MaxFinestLevel + 1], int64_t points, i
     level = MaxFinestLevel;
     for (int l = 0; l <= MaxFinestLevel; ++l)
     {
-      if (2 * cells[l] >= distinct)
+      if (LeafPoints * cells[l] >= distinct)
       {
         level = l;
         break;
@@ -86,7 +94,7 @@ int ChooseFinestLevel(const int64_t cells[MaxFinestLevel + 1], int64_t points, i
     {
       level = std::max(level, 1);
     }
-    why = "the shallowest level whose occupied cells separate at least half of the distinct "
+    why = "the shallowest level whose occupied cells number at least a quarter of the distinct "
           "points";
   }
   const int wanted = level;

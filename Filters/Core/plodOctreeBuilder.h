@@ -180,10 +180,11 @@ double EstimateBuildMemory(int64_t points, int64_t triangles, int64_t nodes, boo
 /**
  * The default finest level, from the number of occupied cells of each level 0..21
  * (`cellsPerLevel`, non-decreasing) over the input points:
- * - meshes: the shallowest level at which the occupied cells number at least half of the
- *   distinct point positions (cells of level 21): most leaves hold one or two points, so the
- *   leaves follow the input's own detail, a tiny mesh (a tetrahedron, one triangle) gets a level
- *   that separates its corners, and duplicated points cannot drive it to level 21;
+ * - meshes: the shallowest level at which the occupied cells number at least a quarter of the
+ *   distinct point positions (cells of level 21), at least 1: leaves hold about four points, so
+ *   they follow the input's own detail (an opened leaf draws its input triangles), a tiny mesh
+ *   (a tetrahedron, one triangle) still gets its corners apart at level 1, and duplicated points
+ *   cannot drive it to level 21;
  * - point clouds: the deepest level whose occupied cells hold at least 4 points on average
  *   (about two point spacings per cell), at least 1;
  * then lowered while the estimated memory exceeds the limit. `reason` says which rule decided.

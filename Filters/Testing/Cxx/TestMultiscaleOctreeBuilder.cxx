@@ -183,7 +183,7 @@ TEST(MultiscaleOctreeBuilder, TinyMeshesGetALevelThatSeparatesTheirCorners)
     CheckSurfaceIsTheInput(b, mesh, "tiny");
     EXPECT_GE(b.View.FinestLevel, 1);
     std::set<int32_t> leaves(b.View.PointLeaf, b.View.PointLeaf + b.View.NumberOfPoints);
-    EXPECT_GE(2 * leaves.size(), size_t(b.View.NumberOfPoints)) << "at least half separated";
+    EXPECT_EQ(leaves.size(), size_t(b.View.NumberOfPoints)) << "every corner in its own leaf";
   }
 }
 
@@ -643,7 +643,7 @@ TEST(MultiscaleOctreeBuilder, FinestLevelZeroAndMaximum)
 
 TEST(MultiscaleOctreeBuilder, DefaultLevelFollowsTheInputDetail)
 {
-  // finer meshes of the same shape get deeper levels; leaves hold one or two points on average
+  // finer meshes of the same shape get deeper levels; leaves hold about four points on average
   int previous = 0;
   for (int res : { 16, 32, 64, 128 })
   {
@@ -656,8 +656,9 @@ TEST(MultiscaleOctreeBuilder, DefaultLevelFollowsTheInputDetail)
     EXPECT_GT(v.FinestLevel, previous) << res;
     previous = v.FinestLevel;
     std::set<int32_t> leaves(v.PointLeaf, v.PointLeaf + v.NumberOfPoints);
-    EXPECT_GE(2 * leaves.size(), size_t(v.NumberOfPoints));
-    EXPECT_NE(std::string(builder->GetFinestLevelReason()).find("half of the distinct"),
+    EXPECT_GE(4 * leaves.size(), size_t(v.NumberOfPoints));
+    EXPECT_LT(leaves.size(), size_t(v.NumberOfPoints));
+    EXPECT_NE(std::string(builder->GetFinestLevelReason()).find("a quarter of the distinct"),
       std::string::npos);
   }
   // duplicated points (an unwelded mesh) do not drive the level to 21

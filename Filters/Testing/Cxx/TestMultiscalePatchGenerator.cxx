@@ -276,7 +276,7 @@ TEST(MultiscalePatchGenerator, FullResolutionIsTheInput)
   cutter->SetLevel(b.View.FinestLevel);
   gen->Update();
   EXPECT_LT(gen->GetOutput()->GetNumberOfPolys(), blob->GetNumberOfPolys());
-  EXPECT_GT(gen->GetOutput()->GetNumberOfPolys(), blob->GetNumberOfPolys() / 2);
+  EXPECT_GT(gen->GetOutput()->GetNumberOfPolys(), blob->GetNumberOfPolys() / 8);
 }
 
 TEST(MultiscalePatchGenerator, HiddenCellsAndCullMasks)
