@@ -32,7 +32,7 @@
  * | `DiffuseRange` | float | 2 | (min, max) diffuse reflectance in the cell |
  * | `SpecularRange` | float | 2 | (min, max) specular reflectance in the cell |
  * | `Flags` | unsigned char | 1 | bit 0: the cell's sub-mesh is a union of discs (topologically safe to collapse); bit 1: it holds a boundary point of an open surface |
- * | `Thickness` | float | 1 | how thick a part collapsing the cell could make vanish (2 sqrt(2 l2) over the points' covariance), world units |
+ * | `Thickness` | float | 1 | for a cell that is not topologically safe: how thick a part collapsing it could make vanish (2 sqrt(2 l2) over the points' covariance), world units; 0 otherwise |
  * | `FirstPoint` | int | 1 | the cell's points are [FirstPoint, next node of the level's FirstPoint) |
  * | `FirstTriangle` | vtkIdType | 1 | the triangles the node owns (those that collapse when it is accepted) start here |
  * | `FirstCluster` | int | 1 | the node's clusters are [FirstCluster, next node's FirstCluster) |

@@ -265,5 +265,62 @@ bool PlaceRootCube(const double lo[3], const double hi[3], double origin[3], dou
   return true;
 }
 
+TriangleBoxTester::TriangleBoxTester(
+  const double a[3], const double b[3], const double c[3], double h)
+{
+  const double* v[3] = { a, b, c };
+  const double e[3][3] = { { b[0] - a[0], b[1] - a[1], b[2] - a[2] },
+    { c[0] - b[0], c[1] - b[1], c[2] - b[2] }, { a[0] - c[0], a[1] - c[1], a[2] - c[2] } };
+  auto add = [&](const double axis[3]) {
+    double* x = this->Axis[this->Count];
+    for (int i = 0; i < 3; ++i)
+      x[i] = axis[i];
+    double mn = Dot(x, v[0]), mx = mn;
+    for (int k = 1; k < 3; ++k)
+    {
+      const double d = Dot(x, v[k]);
+      mn = std::min(mn, d);
+      mx = std::max(mx, d);
+    }
+    this->Min[this->Count] = mn;
+    this->Max[this->Count] = mx;
+    this->Radius[this->Count] = 0.5 * h * (std::abs(x[0]) + std::abs(x[1]) + std::abs(x[2]));
+    ++this->Count;
+  };
+  for (int j = 0; j < 3; ++j)
+  {
+    const double unit[3] = { j == 0 ? 1.0 : 0.0, j == 1 ? 1.0 : 0.0, j == 2 ? 1.0 : 0.0 };
+    add(unit);
+  }
+  double n[3];
+  Cross(e[0], e[1], n);
+  add(n);
+  for (int i = 0; i < 3; ++i)
+  {
+    for (int j = 0; j < 3; ++j)
+    {
+      const double unit[3] = { j == 0 ? 1.0 : 0.0, j == 1 ? 1.0 : 0.0, j == 2 ? 1.0 : 0.0 };
+      double axis[3];
+      Cross(e[i], unit, axis);
+      add(axis);
+    }
+  }
+}
+
+bool TriangleBoxTester::Meets(const double lo[3]) const
+{
+  const double half = this->Radius[0]; // the cube's half edge (its radius along x)
+  const double centre[3] = { lo[0] + half, lo[1] + half, lo[2] + half };
+  for (int i = 0; i < this->Count; ++i)
+  {
+    const double c = Dot(this->Axis[i], centre);
+    if (this->Min[i] - c > this->Radius[i] || this->Max[i] - c < -this->Radius[i])
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 } // namespace build
 } // namespace plod

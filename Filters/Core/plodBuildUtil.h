@@ -180,6 +180,22 @@ inline bool NormaliseAxis(const double sum[3], double weight, double axis[3])
 bool TriangleMeetsBox(const double a[3], const double b[3], const double c[3],
   const double lo[3], double h);
 
+/**
+ * The same test for one triangle against many cubes of one size: the 13 axes, the triangle's
+ * extent along each and the cube's half extent along each are computed once.
+ */
+class TriangleBoxTester
+{
+public:
+  TriangleBoxTester(const double a[3], const double b[3], const double c[3], double h);
+  bool Meets(const double lo[3]) const;
+
+private:
+  double Axis[13][3];
+  double Min[13], Max[13], Radius[13];
+  int Count = 0;
+};
+
 /// Runs `pfor` over [0, n) in blocks of `block` items and calls `progress(fraction of n done)`
 /// between blocks, on the calling thread; returns false as soon as progress returns false.
 template <typename Body, typename Progress>

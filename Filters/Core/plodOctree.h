@@ -43,10 +43,10 @@
  *   cluster of the parent node holding cluster c's points, `ClusterNode[c]` its node. Which
  *   triangles a cut draws does not depend on clusters (two corners of a triangle in one cell
  *   are joined by the triangle's own edge, so they share a cluster); where they go does.
- * - `Thickness[n]`: how thick a part collapsing the cell could make vanish: 2 sqrt(2 l2), l2 the
- *   middle eigenvalue of the covariance of the cell's points (a tube of radius r gives 2 r). The
- *   selector refines a cell that is not topologically safe while its thickness covers more than
- *   a pixel.
+ * - `Thickness[n]`: for a cell that is not topologically safe, how thick a part collapsing it
+ *   could make vanish: 2 sqrt(2 l2), l2 the middle eigenvalue of the covariance of the cell's
+ *   points (a tube of radius r gives 2 r); 0 for safe cells. The selector refines an unsafe cell
+ *   while its thickness covers more than a pixel.
  *
  * Surface (the input mesh, kept so that the finest cut is the input itself):
  * - `Points` (3 floats per point, relative to the root origin), `Normals` (unit, 3 floats per

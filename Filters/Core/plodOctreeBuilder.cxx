@@ -1113,6 +1113,56 @@ void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out
     hi[a] = std::max({ p[0][a], p[1][a], p[2][a] });
   }
   const uint64_t key[3] = { this->LeafKey(c[0]), this->LeafKey(c[1]), this->LeafKey(c[2]) };
+  // the usual case, a triangle about a cell across: test the few finest cells of its bounding
+  // box; a cell it meets without a corner records the triangle at its deepest existing
+  // ancestor-or-self, unless that node holds a corner (then its cone has the normal already)
+  {
+    const double scale = std::ldexp(1.0, this->L);
+    const double slack = 1e-6; // positions are floats: a hair's rounding at a cell face
+    int64_t ilo[3], ihi[3], cells = 1;
+    for (int a = 0; a < 3; ++a)
+    {
+      ilo[a] = std::max<int64_t>(0, static_cast<int64_t>(std::floor(lo[a] * scale - slack)));
+      ihi[a] = std::min<int64_t>(
+        int64_t(1) << this->L, static_cast<int64_t>(std::floor(hi[a] * scale + slack)));
+      cells *= ihi[a] - ilo[a] + 1;
+    }
+    if (cells <= 27)
+    {
+      const double h = 1.0 / scale;
+      const TriangleBoxTester tester(p[0], p[1], p[2], h);
+      for (int64_t z = ilo[2]; z <= ihi[2]; ++z)
+        for (int64_t y = ilo[1]; y <= ihi[1]; ++y)
+          for (int64_t x = ilo[0]; x <= ihi[0]; ++x)
+          {
+            if (x >= (int64_t(1) << this->L) || y >= (int64_t(1) << this->L) ||
+              z >= (int64_t(1) << this->L))
+              continue;
+            const uint64_t cell = MortonEncode(uint32_t(x), uint32_t(y), uint32_t(z));
+            if (cell == key[0] || cell == key[1] || cell == key[2])
+              continue;
+            const double clo[3] = { x * h, y * h, z * h };
+            if (!tester.Meets(clo))
+              continue;
+            for (int l = this->L; l >= 0; --l)
+            {
+              const int shift = 3 * (this->L - l);
+              const uint64_t k = cell >> shift;
+              if ((key[0] >> shift) == k || (key[1] >> shift) == k || (key[2] >> shift) == k)
+                break; // a corner's ancestor: its cone holds the normal
+              const auto& level = this->Keys[l];
+              auto it = std::lower_bound(level.begin(), level.end(), k);
+              if (it != level.end() && *it == k)
+              {
+                out.emplace_back(
+                  static_cast<int32_t>(this->Offset[l] + (it - level.begin())), static_cast<int32_t>(t));
+                break;
+              }
+            }
+          }
+      return;
+    }
+  }
   int32_t stack[8 * (MaxFinestLevel + 1)];
   int top = 0;
   stack[top++] = static_cast<int32_t>(this->Holder(t));
@@ -1495,13 +1545,21 @@ bool MeshBuild::ComputeCells()
       }
     }
   };
+  // the largest angle from `axis` to the normals: the smallest dot product picks the normal,
+  // one accurate angle is computed from it
   auto widest = [](const double axis[3], const std::vector<std::array<double, 3>>& normals) {
-    double theta = 0;
+    const std::array<double, 3>* far = nullptr;
+    double least = 2.0;
     for (const auto& n : normals)
     {
-      theta = std::max(theta, AngleBetween(axis, n.data()));
+      const double d = Dot(axis, n.data());
+      if (d < least)
+      {
+        least = d;
+        far = &n;
+      }
     }
-    return theta;
+    return far ? AngleBetween(axis, far->data()) : 0.0;
   };
   // a node's own quantities from the sums of its clusters; its clusters' vertices and normals
   auto finishNode = [&](int64_t node, int level, uint64_t key, const CellSums* sums, int count,
@@ -1513,8 +1571,19 @@ bool MeshBuild::ComputeCells()
       this->PlaceVertex(sums[k], key, level, &o.ClusterVertex[3 * c]);
       ShadingNormal(sums[k], &o.ClusterNormal[3 * c]);
     }
-    this->PlaceVertex(total, key, level, &o.Vertex[3 * node]);
-    o.Thickness[node] = static_cast<float>(Thickness(total, total.Count) * this->Edge);
+    if (count == 1)
+    {
+      // one cluster: the cell's sums are its sums, and so is its vertex
+      std::copy_n(&o.ClusterVertex[3 * o.FirstCluster[node]], 3, &o.Vertex[3 * node]);
+    }
+    else
+    {
+      this->PlaceVertex(total, key, level, &o.Vertex[3 * node]);
+    }
+    // only read for cells that are not topologically safe (known by now)
+    o.Thickness[node] = (o.Flags[node] & NodeTopologySafe)
+      ? 0.0f
+      : static_cast<float>(Thickness(total, total.Count) * this->Edge);
   };
 
   // leaves: their points and the triangles at them

@@ -87,6 +87,7 @@ def generated_model(resolution, noise=0.25, seed=11):
         r += noise / 8 * np.sin((1 + 2 * k) * (x @ w[:3]) + 3 * w[3])
     pts[:] = x * r[:, None]
     pd.GetPoints().Modified()
+    pd.GetPointData().SetNormals(None)  # the source's normals are the undisplaced sphere's
     return pd
 
 
