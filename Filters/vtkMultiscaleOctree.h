@@ -64,8 +64,10 @@
  * returns world coordinates.
  *
  * Filters validate an octree that reaches them (IsConsistent, linear in its size) once per
- * modification time: after editing its arrays in place (from numpy, say) call Modified() on
- * the octree so that the next filter checks it again.
+ * modification of its arrays: after editing an array in place (from numpy, say), call
+ * Modified() on that array, as VTK asks of in-place edits, so that the next filter checks the
+ * octree again and refuses it with an error if it is inconsistent. Unsignalled edits cannot make
+ * a filter crash or loop either: every index the kernels follow is checked.
  *
  * @warning Node, point and triangle indices are 32-bit: at most 2^31 - 1 of each.
  *

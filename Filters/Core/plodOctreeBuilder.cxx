@@ -354,6 +354,16 @@ private:
     this->R.Error = why;
     return false;
   }
+  /// In a long sequential loop at iteration i of n: every 2^20 iterations, reports progress
+  /// (from..to of the phase) and returns false when the user aborted.
+  bool Tick(int64_t i, int64_t n, double from, double to)
+  {
+    if ((i & ((int64_t(1) << 20) - 1)) != 0 || n <= 0)
+    {
+      return true;
+    }
+    return this->Report(from + (to - from) * double(i) / double(n));
+  }
   /// Position of surface point `p` in root-edge units from the root origin.
   void Position(int64_t p, double u[3]) const
   {
@@ -844,6 +854,10 @@ bool MeshBuild::StoreSurface()
   std::fill(o.FirstTriangle, o.FirstTriangle + this->Nodes, 0);
   for (int64_t t = 0; t < nt; ++t)
   {
+    if (!this->Tick(t, nt, 0.7, 0.75))
+    {
+      return false;
+    }
     if (owner[t] >= 0)
     {
       ++o.FirstTriangle[owner[t]];
@@ -863,6 +877,10 @@ bool MeshBuild::StoreSurface()
   }
   for (int64_t t = 0; t < nt; ++t)
   {
+    if (!this->Tick(t, nt, 0.75, 1.0))
+    {
+      return false;
+    }
     if (owner[t] < 0)
     {
       continue;
@@ -895,6 +913,10 @@ bool MeshBuild::MakeIncidence()
   const int32_t* tri = this->Out.Triangles;
   for (int64_t i = 0; i < 3 * this->Tris; ++i)
   {
+    if (!this->Tick(i, 3 * this->Tris, 0.0, 0.5))
+    {
+      return false;
+    }
     ++this->IncStart[tri[i] + 1];
   }
   for (int64_t p = 0; p < this->Points; ++p)
@@ -905,6 +927,10 @@ bool MeshBuild::MakeIncidence()
   std::vector<int64_t> cursor(this->IncStart.begin(), this->IncStart.end() - 1);
   for (int64_t t = 0; t < this->Tris; ++t)
   {
+    if (!this->Tick(t, this->Tris, 0.5, 1.0))
+    {
+      return false;
+    }
     for (int c = 0; c < 3; ++c)
     {
       this->Inc[cursor[tri[3 * t + c]]++] = static_cast<int32_t>(t);
@@ -979,6 +1005,10 @@ bool MeshBuild::MakeEdges()
   start.assign(this->Points + 1, 0);
   for (int64_t t = 0; t < this->Tris; ++t)
   {
+    if (!this->Tick(t, this->Tris, 0.0, 0.2))
+    {
+      return false;
+    }
     for (int k = 0; k < 3; ++k)
     {
       const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
@@ -994,6 +1024,10 @@ bool MeshBuild::MakeEdges()
     std::vector<int64_t> cursor(start.begin(), start.end() - 1);
     for (int64_t t = 0; t < this->Tris; ++t)
     {
+      if (!this->Tick(t, this->Tris, 0.2, 0.4))
+      {
+        return false;
+      }
       for (int k = 0; k < 3; ++k)
       {
         const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
@@ -1018,6 +1052,10 @@ bool MeshBuild::MakeEdges()
   std::vector<std::pair<int32_t, Quadric>> planes;
   for (int64_t p = 0; p < this->Points; ++p)
   {
+    if (!this->Tick(p, this->Points, 0.5, 0.9))
+    {
+      return false;
+    }
     for (int64_t i = start[p]; i < start[p + 1];)
     {
       int64_t j = i + 1;
@@ -1307,6 +1345,10 @@ bool MeshBuild::MakeClusters()
   std::vector<int64_t> delta(this->Nodes, 0);
   for (int64_t t = 0; t < this->Tris; ++t)
   {
+    if (!this->Tick(t, this->Tris, 0.0, 0.1))
+    {
+      return false;
+    }
     ++delta[this->Holder(t)];
   }
   // the level of each unique edge's lowest common node
@@ -1379,9 +1421,11 @@ bool MeshBuild::MakeClusters()
     }
     return x;
   };
+  bool stopped = false;
   auto unite = [&](int l) {
-    for (int64_t i = levelStart[L - l]; i < levelStart[L - l + 1]; ++i)
+    for (int64_t i = levelStart[L - l]; i < levelStart[L - l + 1] && !stopped; ++i)
     {
+      stopped = !this->Tick(i, levelStart[L + 1], 0.4, 0.9);
       const int32_t a = edges[i].first, b = edges[i].second;
       const int64_t node = this->Ancestor(o.PointLeaf[a], l);
       --delta[node]; // the edge
@@ -1399,6 +1443,10 @@ bool MeshBuild::MakeClusters()
   std::vector<int32_t> tag(this->Points, -1);
   std::vector<int32_t> touched;
   unite(L);
+  if (stopped)
+  {
+    return false;
+  }
   for (int64_t leaf = this->Offset[L]; leaf < this->Offset[L + 1]; ++leaf)
   {
     firstLocal[leaf] = static_cast<int32_t>(repPoint[L].size());
@@ -1420,6 +1468,10 @@ bool MeshBuild::MakeClusters()
   for (int l = L - 1; l >= 0; --l)
   {
     unite(l);
+    if (stopped)
+    {
+      return false;
+    }
     parentLocal[l + 1].assign(repPoint[l + 1].size(), -1);
     for (int64_t n = this->Offset[l]; n < this->Offset[l + 1]; ++n)
     {
@@ -1445,10 +1497,6 @@ bool MeshBuild::MakeClusters()
       for (int32_t r : touched)
         tag[r] = -1;
       touched.clear();
-    }
-    if (!this->Report(0.4 + 0.5 * double(L - l) / double(std::max(1, L))))
-    {
-      return false;
     }
   }
   // global ids: level by level from the root, in node order inside a level
@@ -1786,8 +1834,13 @@ bool MeshBuild::TightenCones()
       return false;
     }
   }
-  for (const auto& pass : this->Pass)
+  for (size_t i = 0; i < this->Pass.size(); ++i)
   {
+    const auto& pass = this->Pass[i];
+    if (!this->Tick(static_cast<int64_t>(i), static_cast<int64_t>(this->Pass.size()), 0.9, 0.95))
+    {
+      return false;
+    }
     for (int64_t n = pass.first; n >= 0; n = o.Parent[n])
     {
       consider(n, pass.second);

@@ -99,10 +99,17 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
 
   // the representative of surface point p: the cluster holding it in its cut ancestor-or-self,
   // or p itself in an opened leaf
+  // (every index followed is checked: arrays edited after validation cannot make it read out
+  // of bounds or loop)
   auto representative = [&](int32_t p, bool& drawn, uint8_t& mask, bool& backFacing) -> int64_t {
+    if (p < 0 || p >= v.NumberOfPoints)
+    {
+      fail("a triangle refers to point " + std::to_string(p) + ", outside the surface");
+      return -1;
+    }
     int64_t c = v.PointCluster[p];
-    int64_t n = v.ClusterNode[c];
-    while (state[n] == NotInCut)
+    int64_t n = c >= 0 && c < v.NumberOfClusters ? v.ClusterNode[c] : -1;
+    while (n >= 0 && n < v.NumberOfNodes && state[n] == NotInCut)
     {
       const int64_t parent = v.ClusterParent[c];
       if (parent < 0 || parent >= c)
@@ -112,6 +119,11 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
       }
       c = parent;
       n = v.ClusterNode[c];
+    }
+    if (n < 0 || n >= v.NumberOfNodes)
+    {
+      fail("surface point " + std::to_string(p) + " has a cluster outside the arrays");
+      return -1;
     }
     if (!ws.Reached[n])
     {
@@ -142,6 +154,13 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
     // an opened leaf's points get a block of outputs, keyed by the leaf's first cluster
     const int64_t p = -1 - rep;
     const int32_t leaf = v.PointLeaf[p];
+    if (leaf < 0 || leaf >= v.NumberOfNodes || v.FirstCluster[leaf] < 0 ||
+      v.FirstCluster[leaf] >= v.NumberOfClusters || v.FirstPoint[leaf] > p ||
+      v.PointEnd(leaf) > v.NumberOfPoints)
+    {
+      fail("surface point " + std::to_string(p) + " has a leaf outside the arrays");
+      return int64_t(0);
+    }
     int32_t& base = ws.OutputOf[v.FirstCluster[leaf]];
     if (base < 0)
     {
@@ -155,7 +174,9 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
     return base + (p - v.FirstPoint[leaf]);
   };
   auto emitOwned = [&](int64_t node) {
-    for (int64_t t = v.FirstTriangle[node], end = v.TriangleEnd(node); t < end; ++t)
+    const int64_t begin = std::max<int64_t>(0, v.FirstTriangle[node]);
+    const int64_t end = std::min<int64_t>(v.NumberOfTriangles, v.TriangleEnd(node));
+    for (int64_t t = begin; t < end; ++t)
     {
       const int32_t* c = &v.Triangles[3 * t];
       int64_t rep[3];

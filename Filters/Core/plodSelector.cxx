@@ -480,6 +480,10 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
       const double Ms = in.UseOctreeMaterial ? v.Specular[2 * n + 1] : in.Specular;
       for (const SelectorLight& l : in.Lights)
       {
+        if (dB >= 1.0)
+        {
+          break; // a rendered pixel saturates at 1: no cell can vary by more (see below)
+        }
         double vl[3];
         for (int a = 0; a < 3; ++a)
           vl[a] = l.Positional ? l.Position[a] - x[a] : l.Position[a];
@@ -515,6 +519,10 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
         }
       }
     }
+    // The rendered brightness saturates at 1, so a cell's visible variation is at most 1 however
+    // many bright lights add up (1,000 lights of intensity 1 took 26 s a selection: every cell
+    // refined to the finest level, every light summed at every node).
+    dB = std::min(dB, 1.0);
     // projected cell size, reduced by the motion across the view (v_d: n projected on the
     // plane normal to v_e; zero when n is parallel to v_e)
     double size = h * std::max(0.0, c);

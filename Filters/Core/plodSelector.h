@@ -20,7 +20,8 @@
  *        else refine, each child through 1-3.
  * 3. Brightness: `dB = M_d sum L_d dC_alpha + M_s sum L_s dC_beta` (eq. 8) with
  *    `dC = c(max(0, a - theta)) - c(min(pi, a + theta))`, `c(x) = max(0, cos x)` (raised to the
- *    specular power for dC_beta, with the half vector); accept if
+ *    specular power for dC_beta, with the half vector), at most 1 (a rendered pixel saturates:
+ *    summing stops there, so many bright lights cost no more than a few); accept if
  *    `dB max(0, l_p max(0, n.v_e) - |v_d.v_f|) k <= T_b`; else each child through 3 only.
  * 4. A leaf that is reached and fails a test is opened: it is drawn at full resolution, its
  *    own input points and triangles (a leaf that passes is drawn at its representative vertex).
