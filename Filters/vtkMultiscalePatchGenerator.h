@@ -7,16 +7,17 @@
  * vtkPerceptualLODSelector or vtkMultiscaleOctreeCutter) into the vtkPolyData that is drawn:
  * SRCC §2's multiscale patches (Wakatsuki et al. 2003), made by vertex clustering over the
  * octree. Every input triangle whose three corners fall into three different cut cells is
- * drawn, each corner at the representative vertex of its cell (or as itself in a leaf the cut
- * opened). The work is proportional to the triangles drawn plus the nodes above the cut. See
- * plodPatches.h for the algorithm.
+ * drawn, each corner at the representative vertex of its cluster (the connected part of the
+ * cell's surface that holds it), or as itself in a leaf the cut opened. The work is
+ * proportional to the triangles drawn plus the nodes above the cut. See plodPatches.h for the
+ * algorithm.
  *
  * Output:
- * - points: the representative vertices of the cut cells used and the points of opened leaves
- *   (world coordinates, double precision when the octree sits far from the origin relative to
- *   its size, else float);
+ * - points: the representative vertices of the cut clusters used and the points of opened
+ *   leaves (world coordinates, double precision when the octree sits far from the origin
+ *   relative to its size, else float);
  * - triangles, oriented as the input's;
- * - point normals: the cells' normal cone axes (the area-weighted mean normals), and for the
+ * - point normals: the clusters' shading normals (area-weighted mean normals), and for the
  *   points of opened leaves their input shading normals (SRCC shades by interpolation);
  * - optionally (GenerateColors) RGB colours from the cells' mean diffuse reflectance (grey);
  * - optionally (GenerateNodeIds) the point array "OctreeNode": the node of each point (the leaf

@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
   libvtk9-dev python3-vtk9 python3-numpy python3-matplotlib mpi-default-dev
-  libeigen3-dev libgtest-dev libbenchmark-dev
+  libeigen3-dev libgtest-dev libbenchmark-dev libmeshoptimizer-dev
   xvfb xauth libgl1-mesa-dri
 )
 missing=()

@@ -25,7 +25,8 @@ Protocol (every view, every model):
   pixel: the LOD's triangles over the reference's object pixels.
 Also: the finest cut (every leaf opened) against the reference at mid distance, the holes at
 tolerances x8, and the trade curve (PSNR against triangles) for the default (QEF), the paper's
-mean rule, and QD at the same counts.
+mean rule, and QD and meshoptimizer's simplifier (vtkMeshoptimizerDecimation, when built) at the
+same counts; meshoptimizer also beside QD in every view.
 
 Writes faithful.csv (one row per view and variant), trade.csv, and faithful.md (medians).
 """
@@ -369,6 +370,20 @@ def decimated(full, target):
     return smooth(dec.GetOutput()), dec.GetOutput().GetNumberOfPolys()
 
 
+HAVE_MESHOPT = hasattr(plod, 'vtkMeshoptimizerDecimation')
+
+
+def meshopt(full, target):
+    """meshoptimizer's simplifier (the second static baseline), or None when not built."""
+    if not HAVE_MESHOPT:
+        return None, 0
+    mo = plod.vtkMeshoptimizerDecimation()
+    mo.SetInputData(full)
+    mo.SetTargetNumberOfTriangles(max(1, int(target)))
+    mo.Update()
+    return smooth(mo.GetOutput()), mo.GetNumberOfTriangles()
+
+
 # ---- measurements ---------------------------------------------------------------------------
 
 def measure_views(name, scene, writer, scales=(1.0, 8.0), with_qd=True):
@@ -389,13 +404,18 @@ def measure_views(name, scene, writer, scales=(1.0, 8.0), with_qd=True):
                            tri_per_px=tris / max(1, covered),
                            select_ms=scene.selector.GetSelectTime() * 1e3,
                            patch_ms=scene.patches.GetGenerateTime() * 1e3,
-                           qd_triangles='', qd_psnr='', qd_holes='')
+                           qd_triangles='', qd_psnr='', qd_holes='', mo_triangles='',
+                           mo_psnr='')
                 if with_qd and scale == 1.0 and tris > 0:
                     qd, qd_tris = decimated(scene.full, tris)
                     qimg = scene.render_data(qd)
                     row['qd_triangles'] = qd_tris
                     row['qd_psnr'] = metrics.psnr(lum(ref), lum(qimg))
                     row['qd_holes'] = int((inner & is_background(qimg)).sum())
+                    mo, mo_tris = meshopt(scene.full, tris)
+                    if mo is not None:
+                        row['mo_triangles'] = mo_tris
+                        row['mo_psnr'] = metrics.psnr(lum(ref), lum(scene.render_data(mo)))
                 writer.writerow(row)
                 rows.append(row)
                 print('%-14s %-5s az %3d x%-3g tris %7d psnr %6.2f qd %6s holes %4d tri/px %.3f' % (
@@ -426,7 +446,7 @@ def measure_finest(name, scene, writer):
                    gaps=hole_split(erode(~is_background(ref), 3), img)[1],
                    covered=int((~is_background(ref)).sum()), tri_per_px='', select_ms='',
                    patch_ms=patches.GetGenerateTime() * 1e3, qd_triangles='', qd_psnr='',
-                   qd_holes='')
+                   qd_holes='', mo_triangles='', mo_psnr='')
         writer.writerow(row)
         rows.append(row)
     print('%-14s finest: %d triangles (input %d), PSNR median %.2f dB' % (
@@ -436,21 +456,110 @@ def measure_finest(name, scene, writer):
 
 
 def trade_curve(name, scenes, writer, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
-    """PSNR against triangles at mid distance (azimuth 0 and 90) for each vertex rule and QD."""
+    """PSNR against triangles at mid distance (azimuth 0 and 90) for each vertex rule, QD and
+    meshoptimizer (the static ones at the default rule's counts)."""
+    rows = []
+
+    def emit(**row):
+        writer.writerow(row)
+        rows.append(row)
     for az in (0, 90):
         for rule, scene in scenes.items():
             scene.view(az, DISTANCES['mid'])
             ref = scene.render_actor(scene.ref_actor)
             for scale in scales:
                 img, tris = scene.render_lod(scale)
-                writer.writerow(dict(model=name, azimuth=az, method=rule, scale=scale,
-                                     triangles=tris, psnr=metrics.psnr(lum(ref), lum(img))))
+                emit(model=name, azimuth=az, method=rule, scale=scale, triangles=tris,
+                     psnr=metrics.psnr(lum(ref), lum(img)))
                 if rule == 'qef' and tris > 0:
                     qd, qd_tris = decimated(scene.full, tris)
-                    qimg = scene.render_data(qd)
-                    writer.writerow(dict(model=name, azimuth=az, method='QD', scale=scale,
-                                         triangles=qd_tris,
-                                         psnr=metrics.psnr(lum(ref), lum(qimg))))
+                    emit(model=name, azimuth=az, method='QD', scale=scale, triangles=qd_tris,
+                         psnr=metrics.psnr(lum(ref), lum(scene.render_data(qd))))
+                    mo, mo_tris = meshopt(scene.full, tris)
+                    if mo is not None:
+                        emit(model=name, azimuth=az, method='meshopt', scale=scale,
+                             triangles=mo_tris,
+                             psnr=metrics.psnr(lum(ref), lum(scene.render_data(mo))))
+    return rows
+
+
+def at_triangles(curve, tris):
+    """PSNR of a trade curve [(triangles, psnr)] at `tris`, interpolated in log(triangles);
+    None outside the curve's range."""
+    pts = sorted((t, p) for t, p in curve if t > 0 and not math.isinf(p))
+    for (t0, p0), (t1, p1) in zip(pts, pts[1:]):
+        if t0 <= tris <= t1:
+            if t1 == t0:
+                return p0
+            w = (math.log(tris) - math.log(t0)) / (math.log(t1) - math.log(t0))
+            return p0 + w * (p1 - p0)
+    return None
+
+
+def trade_summary(trade_rows):
+    """Per model: PSNR of the mean rule, QD and meshopt at the default rule's triangle counts
+    (interpolated along each curve), medians over scales and azimuths."""
+    if not trade_rows:
+        return []
+    lines = ['', '## Trade curve (mid distance, azimuths 0 and 90, tolerances x0.25 to x16)', '',
+             'Each method\'s PSNR at the triangle counts of the default (QEF) LOD, interpolated '
+             'along its own curve in log(triangles); the difference is the median over the '
+             'points both curves cover. Full curves in trade.csv.', '',
+             '| model | QEF - mean rule (dB) | QEF - QD (dB) | QEF - meshopt (dB) | points |',
+             '| --- | ---: | ---: | ---: | ---: |']
+    models_seen = []
+    for r in trade_rows:
+        if r['model'] not in models_seen:
+            models_seen.append(r['model'])
+    for m in models_seen:
+        cells = []
+        npts = 0
+        for other in ('mean', 'QD', 'meshopt'):
+            diffs = []
+            for az in (0, 90):
+                sel = [r for r in trade_rows if r['model'] == m and r['azimuth'] == az]
+                qef = [(r['triangles'], r['psnr']) for r in sel if r['method'] == 'qef']
+                oc = [(r['triangles'], r['psnr']) for r in sel if r['method'] == other]
+                for t, p in qef:
+                    q = at_triangles(oc, t)
+                    if q is not None and not math.isinf(p):
+                        diffs.append(p - q)
+            cells.append('%+.2f' % float(np.median(diffs)) if diffs else '-')
+            npts = max(npts, len(diffs))
+        lines.append('| %s | %s | %d |' % (m, ' | '.join(cells), npts))
+    return lines
+
+
+def plot_trade(trade_rows, out):
+    """trade_<model>.png: PSNR against triangles at azimuth 0 for every method."""
+    try:
+        import matplotlib
+        matplotlib.use('Agg')
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return
+    styles = {'qef': ('LOD, QEF vertices (default)', 'C0', 'o-'),
+              'mean': ('LOD, mean rule', 'C1', 's--'),
+              'QD': ('vtkQuadricDecimation once', 'C2', '^-'),
+              'meshopt': ('meshoptimizer once', 'C3', 'v:')}
+    for m in sorted({r['model'] for r in trade_rows}):
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for method, (label, colour, style) in styles.items():
+            pts = sorted((r['triangles'], r['psnr']) for r in trade_rows
+                         if r['model'] == m and r['azimuth'] == 0 and r['method'] == method
+                         and r['triangles'] > 0 and not math.isinf(r['psnr']))
+            if pts:
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], style, color=colour,
+                        label=label)
+        ax.set_xscale('log')
+        ax.set_xlabel('triangles drawn')
+        ax.set_ylabel('PSNR against full resolution (dB)')
+        ax.set_title('%s, mid distance, azimuth 0' % m)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, 'trade_%s.png' % m), dpi=100)
+        plt.close(fig)
 
 
 def summary(rows, trade_rows, out):
@@ -465,8 +574,9 @@ def summary(rows, trade_rows, out):
              'in brackets the enclosed ones (see-through gaps, not connected to the background '
              'around the object; the rest is the outline drawn inside the silhouette).', '',
              '| model | distance | LOD triangles | LOD PSNR | QD PSNR | LOD - QD (dB) | '
+             'LOD - meshopt (dB) | '
              'hole px (max) [gaps] | hole px x8 (max) [gaps] | triangles / covered px |',
-             '| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |']
+             '| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |']
     models_seen = []
     for r in rows:
         if r['model'] not in models_seen:
@@ -478,9 +588,11 @@ def summary(rows, trade_rows, out):
             if not base:
                 continue
             diff = [r['psnr'] - r['qd_psnr'] for r in base if r['qd_psnr'] != '']
-            lines.append('| %s | %s | %d | %.2f | %.2f | %+.2f | %d [%d] | %s | %.3f |' % (
+            mdiff = [r['psnr'] - r['mo_psnr'] for r in base if r.get('mo_psnr', '') != '']
+            lines.append('| %s | %s | %d | %.2f | %.2f | %+.2f | %s | %d [%d] | %s | %.3f |' % (
                 m, d, med([r['triangles'] for r in base]), med([r['psnr'] for r in base]),
                 med([r['qd_psnr'] for r in base]), med(diff),
+                '%+.2f' % med(mdiff) if mdiff else '-',
                 max(r['holes'] for r in base), max(r['gaps'] for r in base),
                 '%d [%d]' % (max(r['holes'] for r in x8), max(r['gaps'] for r in x8))
                 if x8 else '-',
@@ -496,6 +608,7 @@ def summary(rows, trade_rows, out):
                 lines.append('| %s | %d | %s | %d |' % (
                     m, f[0]['triangles'], 'identical (inf)' if math.isnan(p) else '%.2f' % p,
                     max(r['holes'] for r in f)))
+    lines += trade_summary(trade_rows)
     with open(os.path.join(out, 'faithful.md'), 'w') as f:
         f.write('\n'.join(lines) + '\n')
     print('\n'.join(lines))
@@ -509,12 +622,14 @@ def main():
     ap.add_argument('--quick', action='store_true')
     ap.add_argument('--models', default='')
     ap.add_argument('--no-trade', action='store_true')
+    ap.add_argument('--trade', action='store_true', help='trade curves with --quick too')
     ap.add_argument('--tag', default='', help='suffix of the output files')
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     fields = ['model', 'distance', 'azimuth', 'scale', 'triangles', 'psnr', 'holes', 'gaps',
               'covered',
-              'tri_per_px', 'select_ms', 'patch_ms', 'qd_triangles', 'qd_psnr', 'qd_holes']
+              'tri_per_px', 'select_ms', 'patch_ms', 'qd_triangles', 'qd_psnr', 'qd_holes',
+              'mo_triangles', 'mo_psnr']
     all_rows = []
     trade_rows = []
     with open(os.path.join(args.out, 'faithful%s.csv' % args.tag), 'w', newline='') as f, \
@@ -534,9 +649,11 @@ def main():
             all_rows += measure_views(name, scene, writer, with_qd=True)
             if hasattr(scene.builder.GetOutput(), 'GetNumberOfSurfaceTriangles'):
                 all_rows += measure_finest(name, scene, writer)
-            if not args.no_trade and not args.quick:
-                trade_curve(name, {'qef': scene, 'mean': Scene(model, 'mean')}, trade)
+            if not args.no_trade and (args.trade or not args.quick):
+                trade_rows += trade_curve(name, {'qef': scene, 'mean': Scene(model, 'mean')},
+                                          trade)
     summary(all_rows, trade_rows, args.out)
+    plot_trade(trade_rows, args.out)
 
 
 if __name__ == '__main__':
