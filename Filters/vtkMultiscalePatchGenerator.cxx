@@ -38,9 +38,9 @@ vtkMultiscalePatchGenerator::vtkMultiscalePatchGenerator()
   , GenerateColors(false)
   , GenerateNodeIds(false)
   , GenerateInputPointIds(false)
-  , DropFolds(true)
+  , FoldHandling(FOLDS_REVERSE_NORMALS)
   , CullBackFaces(true)
-  , NumberOfDroppedFolds(0)
+  , NumberOfFolds(0)
   , NumberOfCulledBackFaces(0)
   , NumberOfTriangles(0)
   , NumberOfOutputPoints(0)
@@ -68,7 +68,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   output->Initialize();
   this->NumberOfTriangles = this->NodesVisited = this->NumberOfOutputPoints = 0;
-  this->NumberOfDroppedFolds = 0;
+  this->NumberOfFolds = 0;
   this->NumberOfCulledBackFaces = 0;
   this->GenerateTime = 0;
   if (!input || input->GetNumberOfNodes() == 0)
@@ -111,7 +111,7 @@ int vtkMultiscalePatchGenerator::RequestData(
 
   plod::PatchResult& r = this->Internal->Result;
   plod::PatchOptions options;
-  options.DropFolds = this->DropFolds;
+  options.Folds = static_cast<plod::FoldHandling>(this->FoldHandling);
   if (this->CullBackFaces && input->GetFieldData())
   {
     vtkDataArray* view = input->GetFieldData()->GetArray(vtkMultiscaleOctree::CutViewArrayName());
@@ -180,6 +180,13 @@ int vtkMultiscalePatchGenerator::RequestData(
       const int64_t s = r.PointSource[i];
       std::copy_n(s >= 0 ? &v.ClusterNormal[3 * s] : &v.Normals[3 * (-1 - s)], 3, n + 3 * i);
     }
+    for (const int32_t i : r.ReversedNormals)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        n[3 * i + a] = -n[3 * i + a];
+      }
+    }
     output->GetPointData()->SetNormals(normals);
   }
   if (this->GenerateColors)
@@ -225,12 +232,25 @@ int vtkMultiscalePatchGenerator::RequestData(
   this->NumberOfTriangles = nt;
   this->NumberOfOutputPoints = np;
   this->NodesVisited = r.NodesVisited;
-  this->NumberOfDroppedFolds = r.FoldsDropped;
+  this->NumberOfFolds = r.Folds;
   this->NumberOfCulledBackFaces = r.BackFacesCulled;
   return 1;
 }
 
 //------------------------------------------------------------------------------
+const char* vtkMultiscalePatchGenerator::GetFoldHandlingAsString() const
+{
+  switch (this->FoldHandling)
+  {
+    case FOLDS_KEEP:
+      return "Keep";
+    case FOLDS_DROP:
+      return "Drop";
+    default:
+      return "ReverseNormals";
+  }
+}
+
 void vtkMultiscalePatchGenerator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -242,8 +262,8 @@ void vtkMultiscalePatchGenerator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfTriangles: " << this->NumberOfTriangles << "\n";
   os << indent << "NumberOfOutputPoints: " << this->NumberOfOutputPoints << "\n";
   os << indent << "NodesVisited: " << this->NodesVisited << "\n";
-  os << indent << "DropFolds: " << (this->DropFolds ? "On" : "Off") << "\n";
-  os << indent << "NumberOfDroppedFolds: " << this->NumberOfDroppedFolds << "\n";
+  os << indent << "FoldHandling: " << this->GetFoldHandlingAsString() << "\n";
+  os << indent << "NumberOfFolds: " << this->NumberOfFolds << "\n";
   os << indent << "CullBackFaces: " << (this->CullBackFaces ? "On" : "Off") << "\n";
   os << indent << "NumberOfCulledBackFaces: " << this->NumberOfCulledBackFaces << "\n";
   os << indent << "GenerateTime: " << this->GenerateTime << " s\n";

@@ -13,8 +13,8 @@
  * algorithm.
  *
  * Output:
- * - points: the representative vertices of the cut clusters used and the points of opened
- *   leaves (world coordinates, double precision when the octree sits far from the origin
+ * - points: the representative vertices of the cut clusters used, the points of opened
+ *   leaves, and the own corners of turned-over triangles (see FoldHandling) (world coordinates, double precision when the octree sits far from the origin
  *   relative to its size, else float);
  * - triangles, oriented as the input's;
  * - point normals: the clusters' shading normals (area-weighted mean normals), and for the
@@ -28,7 +28,8 @@
  *
  * No crack can open between cells of different levels: triangles share corners as in the
  * input. A closed, consistently oriented input gives a closed, consistently oriented output at
- * every cut. The cut of every leaf opened draws the input itself, triangle for triangle.
+ * every cut (point for point with FoldHandling KEEP; with the default, turned-over triangles
+ * sit on points of their own at the same places). The cut of every leaf opened draws the input itself, triangle for triangle.
  *
  * Which cells: a triangle is emitted when at least one of its cells is drawn; among hidden
  * cells only, it is skipped when one of them faces away or when all were culled by one common
@@ -80,16 +81,30 @@ public:
   vtkBooleanMacro(GenerateNodeIds, bool);
   ///@}
 
+  enum FoldHandlings
+  {
+    FOLDS_KEEP = 0,
+    FOLDS_DROP = 1,
+    FOLDS_REVERSE_NORMALS = 2
+  };
+
   ///@{
   /**
-   * Drop the triangles clustering turned over (face normal against all three corner normals,
-   * at least one corner a representative vertex): two-sided lighting would shade them from
-   * behind, as dark specks. Default on. Off keeps every triangle of the cut, so that the output
-   * of a closed input is closed (each edge used as often in both directions).
+   * What to do with the triangles clustering turned over (face normal against all three corner
+   * normals, at least one corner a representative vertex). Drawn as they are (KEEP), two-sided
+   * lighting shades them from behind, as dark specks; dropped (DROP), they leave see-through
+   * slits where nothing lies behind them. REVERSE_NORMALS, the default, draws each on three
+   * output points of its own, at its corners' places, with their normals reversed: no speck,
+   * no slit (measured: see plodPatches.h). KEEP is the one setting under which the output of a
+   * closed input is closed point for point (each edge used as often in both directions); with
+   * the others it is closed geometrically.
    */
-  vtkSetMacro(DropFolds, bool);
-  vtkGetMacro(DropFolds, bool);
-  vtkBooleanMacro(DropFolds, bool);
+  vtkSetClampMacro(FoldHandling, int, FOLDS_KEEP, FOLDS_REVERSE_NORMALS);
+  vtkGetMacro(FoldHandling, int);
+  void SetFoldHandlingToKeep() { this->SetFoldHandling(FOLDS_KEEP); }
+  void SetFoldHandlingToDrop() { this->SetFoldHandling(FOLDS_DROP); }
+  void SetFoldHandlingToReverseNormals() { this->SetFoldHandling(FOLDS_REVERSE_NORMALS); }
+  const char* GetFoldHandlingAsString() const;
   ///@}
 
   ///@{
@@ -117,7 +132,9 @@ public:
   vtkGetMacro(NumberOfTriangles, vtkIdType);
   vtkGetMacro(NumberOfOutputPoints, vtkIdType);
   vtkGetMacro(NodesVisited, vtkIdType);
-  vtkGetMacro(NumberOfDroppedFolds, vtkIdType);
+  /// Turned-over triangles met (dropped or drawn on their own points, see FoldHandling; 0
+  /// with KEEP, which does not look for them).
+  vtkGetMacro(NumberOfFolds, vtkIdType);
   vtkGetMacro(NumberOfCulledBackFaces, vtkIdType);
   /// Wall-clock seconds of the last execution.
   vtkGetMacro(GenerateTime, double);
@@ -134,9 +151,9 @@ protected:
   bool GenerateColors;
   bool GenerateNodeIds;
   bool GenerateInputPointIds;
-  bool DropFolds;
+  int FoldHandling;
   bool CullBackFaces;
-  vtkIdType NumberOfDroppedFolds;
+  vtkIdType NumberOfFolds;
   vtkIdType NumberOfCulledBackFaces;
   vtkIdType NumberOfTriangles;
   vtkIdType NumberOfOutputPoints;

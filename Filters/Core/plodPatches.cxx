@@ -73,8 +73,9 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   out.Triangles.clear();
   out.NodesVisited = 0;
   out.HiddenSkipped = 0;
-  out.FoldsDropped = 0;
+  out.Folds = 0;
   out.BackFacesCulled = 0;
+  out.ReversedNormals.clear();
   if (v.NumberOfNodes == 0)
   {
     return true;
@@ -207,17 +208,32 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
         ++out.HiddenSkipped;
         continue;
       }
-      if (options.DropFolds || options.CullBackFaces)
+      if (options.Folds != FoldHandling::Keep || options.CullBackFaces)
       {
         const Drawn tri(v, rep);
-        if (options.DropFolds && (rep[0] >= 0 || rep[1] >= 0 || rep[2] >= 0) && tri.TurnedOver())
+        const bool fold = options.Folds != FoldHandling::Keep &&
+          (rep[0] >= 0 || rep[1] >= 0 || rep[2] >= 0) && tri.TurnedOver();
+        if (fold && options.Folds == FoldHandling::Drop)
         {
-          ++out.FoldsDropped;
+          ++out.Folds;
           continue;
         }
         if (options.CullBackFaces && tri.FacesAway(options))
         {
           ++out.BackFacesCulled;
+          continue;
+        }
+        if (fold)
+        {
+          // its own corners, at the same places, with reversed normals
+          ++out.Folds;
+          for (int k = 0; k < 3; ++k)
+          {
+            const int64_t id = static_cast<int64_t>(out.PointSource.size());
+            out.ReversedNormals.push_back(static_cast<int32_t>(id));
+            out.Triangles.push_back(id);
+            out.PointSource.push_back(rep[k]);
+          }
           continue;
         }
       }

@@ -17,6 +17,7 @@
 #include "vtkIntArray.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
+#include "vtkMath.h"
 #include "vtkMultiscaleOctreeCutter.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
@@ -65,7 +66,8 @@ vtkSmartPointer<vtkPolyData> Patches(vtkMultiscaleOctree* octree,
   gen->SetInputData(octree);
   gen->GenerateNodeIdsOn();
   gen->GenerateInputPointIdsOn();
-  gen->SetDropFolds(dropFolds);
+  gen->SetFoldHandling(dropFolds ? vtkMultiscalePatchGenerator::FOLDS_REVERSE_NORMALS
+                               : vtkMultiscalePatchGenerator::FOLDS_KEEP);
   if (errors)
   {
     gen->AddObserver(vtkCommand::ErrorEvent, errors);
@@ -154,7 +156,7 @@ TEST(MultiscalePatchGenerator, EveryCutDrawsTheVertexClusteringOfTheInput)
     plod::PatchWorkspace ws;
     plod::PatchResult r;
     plod::PatchOptions keep;
-    keep.DropFolds = false;
+    keep.Folds = plod::FoldHandling::Keep;
     for (int trial = 0; trial < 150; ++trial, ++cuts)
     {
       const std::vector<uint8_t> cut = RandomCut(v, rng, 0.0);
@@ -190,7 +192,7 @@ TEST(MultiscalePatchGenerator, UniformCutIsGridClusteringOfTheInput)
     plod::UniformCut(v, level, cut.data());
     plod::PatchResult r;
     plod::PatchOptions keep;
-    keep.DropFolds = false;
+    keep.Folds = plod::FoldHandling::Keep;
     ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, r, nullptr, nullptr, keep));
     const double h = v.CellEdge(level);
     auto cellOf = [&](vtkIdType p) {
@@ -290,7 +292,7 @@ TEST(MultiscalePatchGenerator, HiddenCellsAndCullMasks)
   std::mt19937 rng(11);
   std::uniform_int_distribution<int> plane(0, 5);
   plod::PatchOptions keep;
-  keep.DropFolds = false;
+  keep.Folds = plod::FoldHandling::Keep;
   for (int trial = 0; trial < 100; ++trial)
   {
     std::vector<uint8_t> cut = RandomCut(v, rng, 0.5);
@@ -346,7 +348,7 @@ TEST(MultiscalePatchGenerator, OrientationIsKept)
     plod::UniformCut(a.View, level, cut.data());
     plod::PatchResult pa, pr;
     plod::PatchOptions keep;
-    keep.DropFolds = false;
+    keep.Folds = plod::FoldHandling::Keep;
     ASSERT_TRUE(plod::GeneratePatches(a.View, cut.data(), nullptr, pa, nullptr, nullptr, keep));
     ASSERT_TRUE(plod::GeneratePatches(r.View, cut.data(), nullptr, pr, nullptr, nullptr, keep));
     std::multiset<std::array<int64_t, 3>> ta = plodcheck::DrawnTriangles(pa), flipped;
@@ -356,25 +358,28 @@ TEST(MultiscalePatchGenerator, OrientationIsKept)
   }
 }
 
-TEST(MultiscalePatchGenerator, DropFoldsRemovesOnlyTurnedOverTriangles)
+TEST(MultiscalePatchGenerator, FoldsAreDroppedOrGivenReversedNormalsAndNothingElse)
 {
-  // with DropFolds the output is the full clustering minus exactly the triangles whose face
-  // normal opposes all three corner normals (and that have a representative corner): input
-  // triangles are never dropped
+  // the turned-over triangles are exactly those whose face normal opposes all three corner
+  // normals (and that have a representative corner): input triangles never are. Drop removes
+  // exactly them; ReverseNormals draws every triangle of Keep, the folds on points of their
+  // own (same sources) listed in ReversedNormals, and nothing else there
   auto blob = plodtest::MakeBlob(7, 60, 0.4);
   Built b = Build(blob);
   const plod::OctreeView& v = b.View;
   std::mt19937 rng(3);
-  int64_t dropped = 0;
+  int64_t folds = 0;
   for (int trial = 0; trial < 40; ++trial)
   {
     const std::vector<uint8_t> cut = RandomCut(v, rng, 0.0);
-    plod::PatchResult all, kept;
-    plod::PatchOptions keep;
-    keep.DropFolds = false;
+    plod::PatchResult all, dropped, reversed;
+    plod::PatchOptions keep, drop;
+    keep.Folds = plod::FoldHandling::Keep;
+    drop.Folds = plod::FoldHandling::Drop;
     ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, all, nullptr, nullptr, keep));
-    ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, kept));
-    std::multiset<std::array<int64_t, 3>> expected;
+    ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, dropped, nullptr, nullptr, drop));
+    ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, reversed));
+    std::multiset<std::array<int64_t, 3>> expected, turned;
     for (size_t k = 0; k + 2 < all.Triangles.size(); k += 3)
     {
       const int64_t s[3] = { all.PointSource[all.Triangles[k]],
@@ -393,21 +398,103 @@ TEST(MultiscalePatchGenerator, DropFoldsRemovesOnlyTurnedOverTriangles)
       bool over = s[0] >= 0 || s[1] >= 0 || s[2] >= 0;
       for (int j = 0; j < 3 && over; ++j)
         over = f[0] * n[j][0] + f[1] * n[j][1] + f[2] * n[j][2] < 0;
-      if (!over)
-        expected.insert(plodcheck::Canonical(s[0], s[1], s[2]));
+      (over ? turned : expected).insert(plodcheck::Canonical(s[0], s[1], s[2]));
     }
-    ASSERT_EQ(plodcheck::DrawnTriangles(kept), expected) << trial;
-    ASSERT_EQ(kept.FoldsDropped, int64_t(all.Triangles.size() / 3 - expected.size()));
-    dropped += kept.FoldsDropped;
+    ASSERT_EQ(plodcheck::DrawnTriangles(dropped), expected) << trial;
+    ASSERT_EQ(dropped.Folds, int64_t(turned.size()));
+    ASSERT_TRUE(dropped.ReversedNormals.empty());
+    // ReverseNormals: the same triangles as Keep (by source), the folds on own points
+    ASSERT_EQ(plodcheck::DrawnTriangles(reversed), plodcheck::DrawnTriangles(all)) << trial;
+    ASSERT_EQ(reversed.Folds, int64_t(turned.size()));
+    ASSERT_EQ(reversed.ReversedNormals.size(), 3 * turned.size());
+    std::set<int64_t> own(reversed.ReversedNormals.begin(), reversed.ReversedNormals.end());
+    ASSERT_EQ(own.size(), reversed.ReversedNormals.size()) << "each fold corner is its own point";
+    std::multiset<std::array<int64_t, 3>> onOwn;
+    std::map<int64_t, int> uses;
+    for (size_t k = 0; k + 2 < reversed.Triangles.size(); k += 3)
+    {
+      const int64_t* t = &reversed.Triangles[k];
+      for (int j = 0; j < 3; ++j)
+        ++uses[t[j]];
+      const int ownCorners = int(own.count(t[0]) + own.count(t[1]) + own.count(t[2]));
+      ASSERT_TRUE(ownCorners == 0 || ownCorners == 3) << trial;
+      if (ownCorners == 3)
+        onOwn.insert(plodcheck::Canonical(reversed.PointSource[t[0]],
+          reversed.PointSource[t[1]], reversed.PointSource[t[2]]));
+    }
+    ASSERT_EQ(onOwn, turned) << trial;
+    for (int64_t p : own)
+      ASSERT_EQ(uses[p], 1) << "a fold's own point serves that fold only";
+    folds += reversed.Folds;
   }
-  EXPECT_GT(dropped, 0) << "random cuts of a bumpy blob do turn triangles over";
-  // the full resolution loses nothing
+  EXPECT_GT(folds, 0) << "random cuts of a bumpy blob do turn triangles over";
+  // the full resolution has none
   std::vector<uint8_t> full(v.NumberOfNodes);
   plod::UniformCut(v, -1, full.data());
   plod::PatchResult r;
   ASSERT_TRUE(plod::GeneratePatches(v, full.data(), nullptr, r));
   EXPECT_EQ(int64_t(r.Triangles.size() / 3), v.NumberOfTriangles);
-  EXPECT_EQ(r.FoldsDropped, 0);
+  EXPECT_EQ(r.Folds, 0);
+  EXPECT_TRUE(r.ReversedNormals.empty());
+}
+
+TEST(MultiscalePatchGenerator, FoldHandlingShowsNoTurnedOverTriangle)
+{
+  // in the output, a triangle whose face normal opposes the normals of its three points is
+  // shaded from behind. Keep draws the folds so; Drop and ReverseNormals draw none, Drop with
+  // fewer triangles, ReverseNormals with all of Keep's on 3 more points per fold
+  auto blob = plodtest::MakeBlob(7, 60, 0.4);
+  Built b = Build(blob);
+  vtkNew<vtkMultiscaleOctreeCutter> cutter;
+  cutter->SetInputData(b.Octree);
+  vtkNew<vtkMultiscalePatchGenerator> gen;
+  gen->SetInputConnection(cutter->GetOutputPort());
+  auto turned = [](vtkPolyData* pd) {
+    vtkDataArray* normals = pd->GetPointData()->GetNormals();
+    int count = 0;
+    auto it = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    {
+      vtkIdType n;
+      const vtkIdType* p;
+      it->GetCurrentCell(n, p);
+      double x[3][3], f[3];
+      for (int j = 0; j < 3; ++j)
+        pd->GetPoint(p[j], x[j]);
+      const double e1[3] = { x[1][0] - x[0][0], x[1][1] - x[0][1], x[1][2] - x[0][2] };
+      const double e2[3] = { x[2][0] - x[0][0], x[2][1] - x[0][1], x[2][2] - x[0][2] };
+      vtkMath::Cross(e1, e2, f);
+      bool over = true;
+      for (int j = 0; j < 3 && over; ++j)
+        over = vtkMath::Dot(f, normals->GetTuple3(p[j])) < 0;
+      count += over ? 1 : 0;
+    }
+    return count;
+  };
+  int total = 0;
+  for (int level = 2; level <= b.View.FinestLevel; ++level)
+  {
+    cutter->SetLevel(level);
+    gen->SetFoldHandlingToKeep();
+    gen->Update();
+    const vtkIdType keepTris = gen->GetOutput()->GetNumberOfPolys();
+    const vtkIdType keepPoints = gen->GetOutput()->GetNumberOfPoints();
+    EXPECT_EQ(gen->GetNumberOfFolds(), 0) << "not looked for";
+    const vtkIdType folds = turned(gen->GetOutput());
+    gen->SetFoldHandlingToDrop();
+    gen->Update();
+    EXPECT_EQ(gen->GetNumberOfFolds(), folds);
+    EXPECT_EQ(gen->GetOutput()->GetNumberOfPolys(), keepTris - folds);
+    EXPECT_EQ(turned(gen->GetOutput()), 0) << level;
+    gen->SetFoldHandlingToReverseNormals();
+    gen->Update();
+    EXPECT_EQ(gen->GetNumberOfFolds(), folds);
+    EXPECT_EQ(gen->GetOutput()->GetNumberOfPolys(), keepTris);
+    EXPECT_EQ(gen->GetOutput()->GetNumberOfPoints(), keepPoints + 3 * folds);
+    EXPECT_EQ(turned(gen->GetOutput()), 0) << level;
+    total += static_cast<int>(folds);
+  }
+  EXPECT_GT(total, 0) << "uniform levels of a bumpy blob turn triangles over";
 }
 
 TEST(MultiscalePatchGenerator, OpenSheetHasBoundaryOnlyAtItsRim)
@@ -433,7 +520,7 @@ TEST(MultiscalePatchGenerator, OpenSheetHasBoundaryOnlyAtItsRim)
   const plod::OctreeView& v = b.View;
   std::mt19937 rng(5);
   plod::PatchOptions keep;
-  keep.DropFolds = false;
+  keep.Folds = plod::FoldHandling::Keep;
   for (int trial = 0; trial < 100; ++trial)
   {
     const std::vector<uint8_t> cut = RandomCut(v, rng, 0.0);
@@ -502,7 +589,7 @@ TEST(MultiscalePatchGenerator, StanfordBunnyBoundaryOnlyAtItsHoles)
     plod::UniformCut(v, level, cut.data());
     plod::PatchResult r;
     plod::PatchOptions keep;
-    keep.DropFolds = false;
+    keep.Folds = plod::FoldHandling::Keep;
     ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, r, nullptr, nullptr, keep));
     std::set<std::pair<int64_t, int64_t>> allowed;
     for (const auto& h : holes)

@@ -38,7 +38,7 @@ class TestPatches(unittest.TestCase):
         counts = []
         for level in list(range(1, 7)) + [-1]:
             cutter.SetLevel(level)
-            patches.DropFoldsOff()  # every triangle of the cut: closed
+            patches.SetFoldHandlingToKeep()  # every triangle of the cut: closed
             patches.Update()
             out = patches.GetOutput()
             self.assertEqual(open_edges(out), 0, f'level {level}')
@@ -65,7 +65,7 @@ class TestPatches(unittest.TestCase):
         patches = vtkMultiscalePatchGenerator()
         patches.SetInputConnection(cutter.GetOutputPort())
         patches.GenerateNodeIdsOn()
-        patches.DropFoldsOff()
+        patches.SetFoldHandlingToKeep()
         patches.Update()
         self.assertTrue(cutter.GetOutput().HasValidCut())
         out = patches.GetOutput()
