@@ -86,6 +86,7 @@ bool FetchValues(vtkDataArray* a, std::vector<float>& out)
 //------------------------------------------------------------------------------
 vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
   : FinestLevel(-1)
+  , EstimatedMemory(0.0)
   , VertexRule(VERTEX_QEF)
   , DiffuseArrayName(nullptr)
   , SpecularArrayName(nullptr)
@@ -157,6 +158,7 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   this->NumberOfUnsafeNodes = 0;
   this->FinestLevelReason.clear();
   this->BuildTime = 0.0;
+  this->EstimatedMemory = 0.0;
 
   // parameters
   if (this->FinestLevel < -1 || this->FinestLevel > plod::MaxFinestLevel)
@@ -407,6 +409,7 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   this->NumberOfSkippedTriangles =
     result.NumberOfInvalidTriangles + result.NumberOfDegenerateTriangles;
   this->NumberOfUnsafeNodes = result.NumberOfUnsafeNodes;
+  this->EstimatedMemory = result.EstimatedBytes;
   this->FinestLevelReason = result.LevelReason;
   for (const std::string& w : result.Warnings)
   {
@@ -459,4 +462,5 @@ void vtkMultiscaleOctreeBuilder::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfUnsafeNodes: " << this->NumberOfUnsafeNodes << "\n";
   os << indent << "FinestLevelReason: " << this->FinestLevelReason << "\n";
   os << indent << "BuildTime: " << this->BuildTime << " s\n";
+  os << indent << "EstimatedMemory: " << this->EstimatedMemory / 1e6 << " MB\n";
 }

@@ -159,6 +159,9 @@ public:
   const char* GetFinestLevelReason() { return this->FinestLevelReason.c_str(); }
   /// Wall-clock seconds of the last build.
   vtkGetMacro(BuildTime, double);
+  /// The estimate, in bytes, of the last build's own peak memory at the level it built (what
+  /// the memory limit is compared with; the input not counted). 0 before a build.
+  vtkGetMacro(EstimatedMemory, double);
   ///@}
 
 protected:
@@ -169,6 +172,7 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
   int FinestLevel;
+  double EstimatedMemory;
   int VertexRule;
   char* DiffuseArrayName;
   char* SpecularArrayName;

@@ -3,7 +3,7 @@
 // that each size's peak memory is its own.
 //
 //   xvfb-run -a build/bin/PerceptualLODScale --triangles 4000000 [--frames 20] [--no-render]
-//       [--full-render-limit 16000000] [--csv out.csv]
+//       [--full-render-limit 16000000] [--level L] [--csv out.csv]
 //
 // It generates a displaced UV sphere (plodtest::MakeBlob, float points, 64-bit cells: what a
 // VTK reader gives), builds its octree, and reports:
@@ -78,6 +78,7 @@ int main(int argc, char* argv[])
   bool render = true;
   double fullLimit = 16e6;
   std::string csv;
+  int level = -1;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -89,13 +90,15 @@ int main(int argc, char* argv[])
       render = false;
     else if (a == "--full-render-limit" && i + 1 < argc)
       fullLimit = std::atof(argv[++i]);
+    else if (a == "--level" && i + 1 < argc)
+      level = std::atoi(argv[++i]);
     else if (a == "--csv" && i + 1 < argc)
       csv = argv[++i];
     else
     {
       std::fprintf(stderr,
         "usage: %s --triangles N [--frames F] [--no-render] [--full-render-limit N] "
-        "[--csv file]\n",
+        "[--level L] [--csv file]\n",
         argv[0]);
       return 2;
     }
@@ -115,6 +118,7 @@ int main(int argc, char* argv[])
   ResetPeak();
   vtkNew<vtkMultiscaleOctreeBuilder> builder;
   builder->SetInputData(model);
+  builder->SetFinestLevel(level);
   timer->StartTimer();
   builder->Update();
   timer->StopTimer();
@@ -130,6 +134,9 @@ int main(int argc, char* argv[])
     peak / 1024.0, peak * 1024.0 / triangles, (peak - before) / 1024.0,
     (peak - before) * 1024.0 / triangles, octreeBytes / 1e6, octreeBytes / nodes,
     octreeBytes / triangles);
+  std::printf("estimate of the build's own peak: %.0f MB (measured/estimate %.2f)\n",
+    builder->GetEstimatedMemory() / 1e6,
+    (peak - before) * 1024.0 / std::max(1.0, builder->GetEstimatedMemory()));
   std::fflush(stdout);
   if (octree->GetNumberOfNodes() == 0)
   {
