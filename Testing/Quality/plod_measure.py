@@ -110,7 +110,10 @@ def read_ply(path):
 
 
 def bunny_scans(data):
-    """The ten range scans merged with bun.conf, each point with its scanner position."""
+    """The ten range scans merged with bun.conf, each point with its scanner position. A bmesh
+    line `file tx ty tz qx qy qz qw` maps scan points by p' = R(q)^T p + t (the conjugate
+    quaternion's rotation: with R(q) itself the scans miss the zippered mesh by 16 to 130 mm,
+    with its transpose each lies within 0.6 mm of it, median)."""
     from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints
     points, scanners = [], []
     with open(os.path.join(data, 'bun.conf')) as conf:
@@ -125,8 +128,8 @@ def bunny_scans(data):
                           [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)]])
             scan = read_ply(os.path.join(data, f[1]))
             p = vtk_to_numpy(scan.GetPoints().GetData()).astype(np.float64)
-            points.append(p @ R.T + t)
-            scanners.append(np.tile(R @ np.array([0, 0, 1.0]) + t, (len(p), 1)))
+            points.append(p @ R + t)
+            scanners.append(np.tile(np.array([0, 0, 1.0]) @ R + t, (len(p), 1)))
     p = np.concatenate(points)
     s = np.concatenate(scanners)
     vp = vtkPoints()

@@ -24,9 +24,12 @@
 #include "vtkCallbackCommand.h"
 #include "vtkExecutive.h"
 #include "vtkSMPTools.h"
+#include "vtkMath.h"
+#include "vtkStaticPointLocator.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -1021,6 +1024,24 @@ TEST(MultiscaleOctreeBuilder, StanfordBunnyRangeScansMerged)
   ASSERT_TRUE(cloud);
   EXPECT_EQ(scans, 10);
   EXPECT_EQ(cloud->GetNumberOfPoints(), 362272);
+  // registered: the scans lie on the zippered mesh made from them (its points are about 0.5
+  // mm apart; a wrong transform misses it by centimetres)
+  auto mesh = plodtest::ReadPLY(dir + "/bun_zipper.ply");
+  ASSERT_TRUE(mesh);
+  vtkNew<vtkStaticPointLocator> locator;
+  locator->SetDataSet(mesh);
+  locator->BuildLocator();
+  std::vector<double> distances;
+  for (vtkIdType i = 0; i < cloud->GetNumberOfPoints(); i += 97)
+  {
+    double x[3], y[3];
+    cloud->GetPoint(i, x);
+    mesh->GetPoint(locator->FindClosestPoint(x), y);
+    distances.push_back(std::sqrt(vtkMath::Distance2BetweenPoints(x, y)));
+  }
+  std::sort(distances.begin(), distances.end());
+  EXPECT_LT(distances[distances.size() / 2], 0.001) << "median distance to the mesh, m";
+  EXPECT_LT(distances[distances.size() * 9 / 10], 0.003) << "90th percentile, m";
   vtkNew<vtkMultiscaleOctreeBuilder> builder;
   builder->SetInputData(cloud);
   builder->SetViewpointArrayName("ScannerPosition");
@@ -1031,11 +1052,11 @@ TEST(MultiscaleOctreeBuilder, StanfordBunnyRangeScansMerged)
   EXPECT_TRUE(plod::ValidateOctree(b.View, &why)) << why;
   // The merged scans and the zippered mesh are the same object in the same frame: the scan
   // surface's triangles face the same way as the mesh's nearby (oriented towards the scanners)
-  auto mesh = plodtest::ReadPLY(dir + "/bun_zipper.ply");
   Built m = Build(mesh, b.View.FinestLevel);
-  int agree = 0, compared = 0;
+  int agree = 0, compared = 0, sampled = 0;
   for (int64_t t = 0; t < b.View.NumberOfTriangles; t += 7)
   {
+    ++sampled;
     double n[3], x[3];
     if (plodcheck::Face(b.View, t, n) <= 0)
       continue;
@@ -1050,4 +1071,5 @@ TEST(MultiscaleOctreeBuilder, StanfordBunnyRangeScansMerged)
   }
   EXPECT_GT(compared, 1000);
   EXPECT_GE(agree, 0.9 * compared) << "scan normals oriented towards their scanners";
+  EXPECT_GE(compared, sampled / 2) << "the scan surface lies where the mesh is";
 }
