@@ -61,7 +61,7 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Point normals from the cone axes. Default on.
+  /// Point normals: the clusters' shading normals, the input's at opened leaves. Default on.
   vtkSetMacro(GenerateNormals, bool);
   vtkGetMacro(GenerateNormals, bool);
   vtkBooleanMacro(GenerateNormals, bool);

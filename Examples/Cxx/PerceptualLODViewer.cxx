@@ -254,7 +254,7 @@ int main(int argc, char* argv[])
   v.Selector->SetInputConnection(v.Builder->GetOutputPort());
   v.Patches->SetInputConnection(v.Selector->GetOutputPort());
   v.LODMapper->SetInputConnection(v.Patches->GetOutputPort());
-  // the full-resolution reference, smooth-shaded like the LOD (whose normals are cone axes)
+  // the full-resolution reference, smooth-shaded like the LOD (whose normals are area-weighted mean normals)
   vtkNew<vtkPolyDataNormals> normals;
   normals->SetInputData(model);
   normals->SplittingOff();
