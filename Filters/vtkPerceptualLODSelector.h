@@ -27,7 +27,13 @@
  *    drawn, so zero tolerances give the input itself.
  * Topology: a cell whose sub-mesh is not a union of discs (a tube, a handle: collapsing it
  * would drop its triangles and open a see-through gap) is refined, whatever its errors, while
- * its edge projects to more than TopologyTolerance pixels.
+ * the part it could lose (its Thickness) projects to more than TopologyTolerance pixels.
+ * Open rims: a cell holding a boundary point of an open surface is tested like a contour cell
+ * (its shape error decides), since its outline is seen from every side.
+ * Size floor (every mode but Distance): a cell whose edge projects to at most ContourTolerance
+ * pixels is accepted, since its points then lie within about that many pixels of its vertex
+ * on the screen (the vertex is clamped to the cell); without it, brightness and contour tests kept refining sub-pixel cells (measured:
+ * far views drew several triangles per covered pixel).
  * See plodSelector.h for the formulas as implemented.
  *
  * Units: ContourTolerance in pixels (default 1). BrightnessTolerance in brightness x pixels,
