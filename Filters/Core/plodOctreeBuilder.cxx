@@ -504,7 +504,11 @@ bool MeshBuild::Scan()
   {
     nonFinite += finite[i] ? 0 : 1;
   }
-  this->R.NumberOfNonFinitePoints = nonFinite;
+  if (!this->S.Forced)
+  {
+    // a cloud's mesh has only finite points: keep the count of the cloud's own (MakeCloudMesh)
+    this->R.NumberOfNonFinitePoints = nonFinite;
+  }
   if (invalid)
   {
     this->R.Warnings.push_back(std::to_string(invalid) +
@@ -648,8 +652,7 @@ bool MeshBuild::ChooseLevel()
   };
   if (this->S.Forced)
   {
-    this->L = this->S.ForcedLevel;
-    this->R.LevelReason = "the point cloud's contouring level";
+    this->L = this->S.ForcedLevel; // MakeCloudMesh chose it and set LevelReason
   }
   else if (this->Params.FinestLevel >= 0)
   {

@@ -338,6 +338,8 @@ def seeds():
     out['heightfield-views-open'] = seed(shape('heightfield', 20, 20),
                                          control(views=(views[8], views[0], views[6])))
     out['empty'] = b''
+    # regressions: inputs that found bugs (see the commits that fixed them)
+    out['regression-cloud-counts'] = seed(cloud(pts[:100] + [('nan', 0, 0)], level=3), rich)
     return out
 
 
