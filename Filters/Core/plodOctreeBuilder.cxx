@@ -653,6 +653,16 @@ bool MeshBuild::ChooseLevel()
   if (this->S.Forced)
   {
     this->L = this->S.ForcedLevel; // MakeCloudMesh chose it and set LevelReason
+    // the limit holds for the cloud's surface too, as for a mesh (whatever chose the level)
+    const double need = EstimateBuildMemory(this->Points, this->Kept, nodesUpTo(this->L), false);
+    if (need > this->Params.MemoryLimit)
+    {
+      return this->Fail("the point cloud's surface at level " + std::to_string(this->L) +
+        " would need about " + std::to_string(static_cast<long long>(need / 1e6)) +
+        " MB, above the memory limit of " +
+        std::to_string(static_cast<long long>(this->Params.MemoryLimit / 1e6)) +
+        " MB; lower the finest level or raise the limit");
+    }
   }
   else if (this->Params.FinestLevel >= 0)
   {

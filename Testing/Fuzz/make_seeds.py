@@ -340,6 +340,7 @@ def seeds():
     out['empty'] = b''
     # regressions: inputs that found bugs (see the commits that fixed them)
     out['regression-cloud-counts'] = seed(cloud(pts[:100] + [('nan', 0, 0)], level=3), rich)
+    out['regression-cloud-memory-limit'] = seed(cloud(pts, level=6, memory=1e5), rich)
     return out
 
 

@@ -865,8 +865,8 @@ TEST(MultiscaleOctreeBuilder, PointCloudBecomesAClosedOrientedSurface)
   }
 }
 
-// Found by Testing/Fuzz/FuzzOctreeBuild (Testing/Fuzz/corpus/seed-regression-cloud-counts): the mesh
-// phase of a cloud's build overwrote the cloud's level reason and non-finite count.
+// Found by Testing/Fuzz/FuzzOctreeBuild (corpus: seed-regression-cloud-counts): the mesh phase
+// of a cloud's build overwrote the cloud's level reason and non-finite count.
 TEST(MultiscaleOctreeBuilder, PointCloudKeepsItsLevelReasonAndNonFiniteCount)
 {
   auto sphere = plodtest::MakeBlob(1, 60, 0.0);
@@ -936,6 +936,39 @@ TEST(MultiscaleOctreeBuilder, PointCloudKeepsItsLevelReasonAndNonFiniteCount)
   ASSERT_TRUE(r.Ok) << r.Error;
   EXPECT_EQ(r.NumberOfNonFinitePoints, 2);
   EXPECT_NE(r.LevelReason.find("4 points on average"), std::string::npos) << r.LevelReason;
+}
+
+// Found by Testing/Fuzz/FuzzOctreeBuild (corpus: seed-regression-cloud-memory-limit): a cloud's
+// surface was built whatever the memory limit; a mesh at the same level is refused.
+TEST(MultiscaleOctreeBuilder, PointCloudSurfaceHonoursTheMemoryLimit)
+{
+  auto sphere = plodtest::MakeBlob(1, 60, 0.0);
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(sphere->GetPoints());
+  vtkNew<vtkMultiscaleOctreeBuilder> free;
+  free->SetInputData(cloud);
+  free->SetFinestLevel(4);
+  free->Update();
+  const double need = plod::EstimateBuildMemory(free->GetOutput()->GetNumberOfSurfacePoints(),
+    free->GetOutput()->GetNumberOfSurfaceTriangles(), free->GetOutput()->GetNumberOfNodes(),
+    false);
+  ASSERT_GT(need, 0);
+  vtkNew<plodtest::ErrorRecorder> errors;
+  vtkNew<vtkMultiscaleOctreeBuilder> tight;
+  tight->SetInputData(cloud);
+  tight->SetFinestLevel(4);
+  tight->SetMemoryLimit(0.5 * need / (1024.0 * 1024.0));
+  tight->AddObserver(vtkCommand::ErrorEvent, errors);
+  tight->Update();
+  EXPECT_EQ(tight->GetOutput()->GetNumberOfNodes(), 0);
+  EXPECT_TRUE(errors->HasError("above the memory limit"));
+  // with room enough, the same build succeeds
+  vtkNew<vtkMultiscaleOctreeBuilder> roomy;
+  roomy->SetInputData(cloud);
+  roomy->SetFinestLevel(4);
+  roomy->SetMemoryLimit(2 * need / (1024.0 * 1024.0));
+  roomy->Update();
+  EXPECT_EQ(roomy->GetOutput()->GetNumberOfNodes(), free->GetOutput()->GetNumberOfNodes());
 }
 
 TEST(MultiscaleOctreeBuilder, ProgressIsReportedAndAbortStopsTheBuild)
