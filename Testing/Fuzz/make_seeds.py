@@ -170,7 +170,7 @@ def view(error='srcc', motion_model='none', fovea='off', parallel=False, hide=Tr
          eye_dir=(40, 30, 50), eye_arg=b'\x01', frustum='camera', frustum_args=None,
          lights=(), headlight=True, contour=1, brightness=4, topology=1, pixels=1000,
          material=False, velocity=1, distance_level=0, motion_scale=0, motion=bytes(12),
-         fovea_rate=0):
+         fovea_rate=0, psec=0):
     """One view, in the order DecodeView reads it."""
     b1 = EYE[eye] | (FRUSTUM[frustum] << 3) | (len(lights) << 5) | (128 if headlight else 0)
     out = bytes([ERROR[error] | (MOTION[motion_model] << 2) | (FOVEA[fovea] << 4) |
@@ -192,7 +192,7 @@ def view(error='srcc', motion_model='none', fovea='off', parallel=False, hide=Tr
         if positional and f & 2:
             out += u16(0)  # the light on node 0's vertex
     out += bytes([motion_scale]) + bytes(m & 0xff for m in motion)  # A (9) and b (3)
-    out += bytes([VELOCITY[velocity], 0, distance_level * 4 & 0xff])
+    out += bytes([VELOCITY[velocity], psec, distance_level * 4 & 0xff])  # psec: PSECFactors
     # foveation: rate, point, up, centre, height, weights, gaze (0, 0, -1)
     out += bytes([fovea_rate]) + bytes([10, 20, 0, 0, 0, 64, 0, 0, 0, 0, 64, 64, 0, 0, 0xc0])
     return out
@@ -341,6 +341,8 @@ def seeds():
     # regressions: inputs that found bugs (see the commits that fixed them)
     out['regression-cloud-counts'] = seed(cloud(pts[:100] + [('nan', 0, 0)], level=3), rich)
     out['regression-cloud-memory-limit'] = seed(cloud(pts, level=6, memory=1e5), rich)
+    out['regression-psec-factor'] = seed(mesh(CUBE, CUBE_T, level=3), control(views=(
+        view(error='psec', contour=0, brightness=0, frustum='none', psec=1),)))
     return out
 
 
