@@ -524,7 +524,11 @@ bool MeshBuild::Scan()
   {
     nonFinite += finite[i] ? 0 : 1;
   }
-  this->R.NumberOfNonFinitePoints = nonFinite;
+  if (!this->S.Forced)
+  {
+    // a cloud's mesh has only finite points: keep the count of the cloud's own (MakeCloudMesh)
+    this->R.NumberOfNonFinitePoints = nonFinite;
+  }
   if (invalid)
   {
     this->R.Warnings.push_back(std::to_string(invalid) +
@@ -668,8 +672,17 @@ bool MeshBuild::ChooseLevel()
   };
   if (this->S.Forced)
   {
-    this->L = this->S.ForcedLevel;
-    this->R.LevelReason = "the point cloud's contouring level";
+    this->L = this->S.ForcedLevel; // MakeCloudMesh chose it and set LevelReason
+    // the limit holds for the cloud's surface too, as for a mesh (whatever chose the level)
+    const double need = EstimateBuildMemory(this->Points, this->Kept, nodesUpTo(this->L), false);
+    if (need > this->Params.MemoryLimit)
+    {
+      return this->Fail("the point cloud's surface at level " + std::to_string(this->L) +
+        " would need about " + std::to_string(static_cast<long long>(need / 1e6)) +
+        " MB, above the memory limit of " +
+        std::to_string(static_cast<long long>(this->Params.MemoryLimit / 1e6)) +
+        " MB; lower the finest level or raise the limit");
+    }
   }
   else if (this->Params.FinestLevel >= 0)
   {

@@ -130,7 +130,9 @@ struct BuildParameters
   /// Finest level; negative: chosen from the input (see ChooseFinestLevel).
   int FinestLevel = -1;
   VertexRule Rule = VertexRule::QEF;
-  /// Upper bound for the memory the build may use, in bytes (the input not counted).
+  /// Upper bound for the memory the build may use, in bytes (the input not counted). An
+  /// automatic level is lowered to fit it; a mesh at a level set by the user that would not fit
+  /// fails, and so does a point cloud whose contoured surface would not.
   double MemoryLimit = 4.0e9;
 };
 

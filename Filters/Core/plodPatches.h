@@ -103,9 +103,13 @@ struct PatchWorkspace
  * The triangles of the cut `state` (see plodCut.h). `cullMask`, when not null, holds for each
  * hidden node the frustum planes (bit i: plane i) wholly outside which its cell lies, 0 for a
  * back-facing cell; without it, triangles among hidden cells are skipped. Returns false when
- * the cut is invalid (a state above 3, an opened inner node, a leaf with no cut ancestor, a cut
- * node below another) and explains in `why`; the octree must be valid (ValidateOctree).
- * `out`'s vectors keep their capacity between calls.
+ * the walk meets an invalid cut (a state above 3, an opened inner node, a leaf with no cut
+ * ancestor, a corner whose cut cell lies below another cut node) and explains in `why`. The
+ * walk reads no state below a cut node unless a drawn triangle's corner leads there, so errors
+ * in such a subtree can pass unnoticed: the output is then the cut as seen from the root, and
+ * it is always in range (found by the fuzzer: 64 of 137 corrupted cuts). ValidateCut checks
+ * every node, at a cost proportional to the whole octree. The octree must be valid
+ * (ValidateOctree). `out`'s vectors keep their capacity between calls.
  */
 bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
   PatchResult& out, std::string* why = nullptr, PatchWorkspace* workspace = nullptr,

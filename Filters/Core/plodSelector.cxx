@@ -133,6 +133,12 @@ bool ValidateSelectionInput(const SelectionInput& in, std::string* why)
   {
     return fail("the velocity factor must be >= 1");
   }
+  // a zero or negative factor would turn the 'accept nothing' of a zero tolerance (-1) into 0 or
+  // a positive tolerance on features
+  if (!(in.PSECFactor > 0) || !std::isfinite(in.PSECFactor))
+  {
+    return fail("the PSEC factor must be positive and finite");
+  }
   if (!std::isfinite(in.FoveationRate) || !Finite(in.FoveationPoint, 3) ||
     !Finite(in.FoveationUp, 3) || !Finite(in.GazeDirection, 3) || !Finite(in.FoveationCentre, 3) ||
     !(in.FoveationHeight > 0))

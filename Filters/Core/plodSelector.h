@@ -176,7 +176,8 @@ double ConeCosineSpread(double cosA, double sinA, double cosT, double sinT, doub
 int DistanceLevel(double rootEdge, int finestLevel, double pixelThreshold, double viewAngle,
   double distance, double pixels);
 
-/// Checks an input: finite numbers, positive scales, unit-ish vectors. Explains in `why`.
+/// Checks an input: finite numbers, positive scales and PSEC factor, unit-ish vectors. Explains
+/// in `why`.
 bool ValidateSelectionInput(const SelectionInput& in, std::string* why);
 
 /**

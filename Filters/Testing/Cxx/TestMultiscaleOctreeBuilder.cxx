@@ -869,6 +869,112 @@ TEST(MultiscaleOctreeBuilder, PointCloudBecomesAClosedOrientedSurface)
   }
 }
 
+// Found by Testing/Fuzz/FuzzOctreeBuild (corpus: seed-regression-cloud-counts): the mesh phase
+// of a cloud's build overwrote the cloud's level reason and non-finite count.
+TEST(MultiscaleOctreeBuilder, PointCloudKeepsItsLevelReasonAndNonFiniteCount)
+{
+  auto sphere = plodtest::MakeBlob(1, 60, 0.0);
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(sphere->GetPoints());
+  vtkNew<vtkMultiscaleOctreeBuilder> automatic;
+  automatic->SetInputData(cloud);
+  automatic->Update();
+  EXPECT_NE(std::string(automatic->GetFinestLevelReason()).find("4 points on average"),
+    std::string::npos)
+    << automatic->GetFinestLevelReason();
+  vtkNew<vtkMultiscaleOctreeBuilder> user;
+  user->SetInputData(cloud);
+  user->SetFinestLevel(4);
+  user->Update();
+  EXPECT_STREQ(user->GetFinestLevelReason(), "set by the user");
+
+  // the kernel's count of the cloud's own non-finite points (was the contoured mesh's: 0)
+  std::vector<double> xyz(3 * cloud->GetNumberOfPoints() + 6);
+  for (vtkIdType i = 0; i < cloud->GetNumberOfPoints(); ++i)
+  {
+    cloud->GetPoint(i, &xyz[3 * i]);
+  }
+  xyz[xyz.size() - 6] = std::nan("");
+  xyz[xyz.size() - 2] = HUGE_VAL;
+  plod::BuildInput in;
+  in.NumberOfPoints = static_cast<int64_t>(xyz.size() / 3);
+  in.Points = xyz.data();
+  std::vector<std::vector<char>> keep;
+  auto block = [&keep](int64_t bytes) {
+    keep.emplace_back(static_cast<size_t>(std::max<int64_t>(bytes, 1)));
+    return static_cast<void*>(keep.back().data());
+  };
+  plod::Allocator allocate;
+  allocate.Nodes = [&](int64_t nodes, int64_t points, int64_t triangles) {
+    plod::OctreeArrays o;
+    o.Level = static_cast<uint8_t*>(block(nodes));
+    o.Parent = static_cast<int32_t*>(block(4 * nodes));
+    o.FirstChild = static_cast<int32_t*>(block(4 * nodes));
+    o.ChildMask = static_cast<uint8_t*>(block(nodes));
+    o.Vertex = static_cast<float*>(block(12 * nodes));
+    o.ConeAxis = static_cast<float*>(block(12 * nodes));
+    o.ConeAngle = static_cast<float*>(block(4 * nodes));
+    o.ShapeError = static_cast<float*>(block(4 * nodes));
+    o.Diffuse = static_cast<float*>(block(8 * nodes));
+    o.Specular = static_cast<float*>(block(8 * nodes));
+    o.Flags = static_cast<uint8_t*>(block(nodes));
+    o.Thickness = static_cast<float*>(block(4 * nodes));
+    o.FirstPoint = static_cast<int32_t*>(block(4 * nodes));
+    o.FirstTriangle = static_cast<int64_t*>(block(8 * nodes));
+    o.FirstCluster = static_cast<int32_t*>(block(4 * nodes));
+    o.Points = static_cast<float*>(block(12 * points));
+    o.Normals = static_cast<float*>(block(12 * points));
+    o.PointLeaf = static_cast<int32_t*>(block(4 * points));
+    o.PointCluster = static_cast<int32_t*>(block(4 * points));
+    o.InputPointId = static_cast<int64_t*>(block(8 * points));
+    o.Triangles = static_cast<int32_t*>(block(12 * triangles));
+    return o;
+  };
+  allocate.Clusters = [&](int64_t clusters, plod::OctreeArrays& o) {
+    o.ClusterNode = static_cast<int32_t*>(block(4 * clusters));
+    o.ClusterParent = static_cast<int32_t*>(block(4 * clusters));
+    o.ClusterVertex = static_cast<float*>(block(12 * clusters));
+    o.ClusterNormal = static_cast<float*>(block(12 * clusters));
+  };
+  const plod::BuildResult r = plod::BuildOctree(in, plod::BuildParameters(), allocate);
+  ASSERT_TRUE(r.Ok) << r.Error;
+  EXPECT_EQ(r.NumberOfNonFinitePoints, 2);
+  EXPECT_NE(r.LevelReason.find("4 points on average"), std::string::npos) << r.LevelReason;
+}
+
+// Found by Testing/Fuzz/FuzzOctreeBuild (corpus: seed-regression-cloud-memory-limit): a cloud's
+// surface was built whatever the memory limit; a mesh at the same level is refused.
+TEST(MultiscaleOctreeBuilder, PointCloudSurfaceHonoursTheMemoryLimit)
+{
+  auto sphere = plodtest::MakeBlob(1, 60, 0.0);
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(sphere->GetPoints());
+  vtkNew<vtkMultiscaleOctreeBuilder> free;
+  free->SetInputData(cloud);
+  free->SetFinestLevel(4);
+  free->Update();
+  const double need = plod::EstimateBuildMemory(free->GetOutput()->GetNumberOfSurfacePoints(),
+    free->GetOutput()->GetNumberOfSurfaceTriangles(), free->GetOutput()->GetNumberOfNodes(),
+    false);
+  ASSERT_GT(need, 0);
+  vtkNew<plodtest::ErrorRecorder> errors;
+  vtkNew<vtkMultiscaleOctreeBuilder> tight;
+  tight->SetInputData(cloud);
+  tight->SetFinestLevel(4);
+  tight->SetMemoryLimit(0.5 * need / (1024.0 * 1024.0));
+  tight->AddObserver(vtkCommand::ErrorEvent, errors);
+  tight->Update();
+  EXPECT_EQ(tight->GetOutput()->GetNumberOfNodes(), 0);
+  EXPECT_TRUE(errors->HasError("above the memory limit"));
+  // with room enough, the same build succeeds
+  vtkNew<vtkMultiscaleOctreeBuilder> roomy;
+  roomy->SetInputData(cloud);
+  roomy->SetFinestLevel(4);
+  roomy->SetMemoryLimit(2 * need / (1024.0 * 1024.0));
+  roomy->Update();
+  EXPECT_EQ(roomy->GetOutput()->GetNumberOfNodes(), free->GetOutput()->GetNumberOfNodes());
+}
+
 TEST(MultiscaleOctreeBuilder, ProgressIsReportedAndAbortStopsTheBuild)
 {
   auto blob = plodtest::MakeBlob(16, 200, 0.2);

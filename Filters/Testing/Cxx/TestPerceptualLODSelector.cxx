@@ -626,6 +626,32 @@ TEST(PerceptualLODSelector, Extremes)
   ASSERT_TRUE(p.Cut()->HasValidCut());
 }
 
+// Found by Testing/Fuzz/FuzzOctreeBuild (corpus: seed-regression-psec-factor): with a PSEC
+// factor of 0, a zero contour tolerance accepted flat cells on the contour (the factor turned
+// the 'accept nothing' tolerance into 0); the kernel's check now refuses what the VTK class does.
+TEST(PerceptualLODSelector, PSECFactorMustBePositiveAndZeroToleranceAcceptsNothing)
+{
+  plod::SelectionInput in = Viewer(5, 0.5, 0.5); // on the root's contour
+  in.Error = plod::ErrorModel::PSEC;
+  in.ContourTolerance = 0;
+  std::string why;
+  for (double bad : { 0.0, -1.0, std::nan(""), HUGE_VAL })
+  {
+    in.PSECFactor = bad;
+    EXPECT_FALSE(plod::ValidateSelectionInput(in, &why)) << bad;
+  }
+  Tiny t;
+  t.Shape[0] = 0; // flat: an error of exactly 0
+  for (double good : { 0.25, 1e-300 })
+  {
+    in.PSECFactor = good;
+    ASSERT_TRUE(plod::ValidateSelectionInput(in, &why)) << why;
+    int child = -1;
+    EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone) << "tolerance 0 accepts nothing";
+    EXPECT_EQ(child, plod::OpenedLeaf);
+  }
+}
+
 TEST(PerceptualLODSelector, BadInputKeepsThePreviousCut)
 {
   Pipeline p(plodtest::MakeBlob(6, 40, 0.3), 5);

@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file QuadraticBuilds.cxx
+ * @brief Reproducer (not built by default) for two build costs that grow with the square of a
+ * local count, reported from the fuzzing of plod::BuildOctree (docs/fuzzing.md, "Left open").
+ *
+ * 1. `cloud N`: a point cloud of N points, half on a unit sphere and half piled on one spot.
+ *    The PCA normals (plodCloudSurface.cxx, EstimateNormals) visit, for every point, every
+ *    point of the 27 cells around it: a cell holding k points costs k^2. The fuzzer met it as a
+ *    cloud of 4096 points whose float coordinates collapsed onto a few values (14 s under
+ *    ASan). The phase reports no progress, so an abort waits for its end.
+ * 2. `star N`: N triangles (0, 2i + 1, 2i + 2) around one hub point, corners at random. Every
+ *    spoke is a boundary edge, and MakeEdges looks for a boundary edge's triangle among all the
+ *    triangles of its lower end: the hub's N triangles, N times. (The "passing" phase grows too,
+ *    but as the cells these big triangles cross: the cost of what the cones promise.)
+ *
+ * Build and run from the repository root, after the normal build (`build/lib/libplod_core.a`):
+ *
+ *     g++ -O2 -std=c++17 -IFilters/Core Testing/Fuzz/reproducers/QuadraticBuilds.cxx \
+ *       build/lib/libplod_core.a -o /tmp/quadratic -lpthread
+ *     PLOD_BUILD_TIMING=1 /tmp/quadratic cloud 16384
+ *     PLOD_BUILD_TIMING=1 /tmp/quadratic star 32000
+ *
+ * Measured (Release, g++ 12, one thread): cloud 4096 / 16384 / 65536 points: the normals take
+ * 0.12 / 1.6 / 26.6 s. star 2000 / 8000 / 32000: edges 0.06 / 0.20 / 1.1 s.
+ */
+#include "plodOctreeBuilder.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <vector>
+
+int main(int argc, char** argv)
+{
+  const bool star = argc > 1 && std::strcmp(argv[1], "star") == 0;
+  const int n = argc > 2 ? std::atoi(argv[2]) : 16384;
+  std::mt19937 rng(1);
+  std::normal_distribution<double> gauss(0, 1);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  std::vector<double> points;
+  std::vector<int64_t> triangles;
+  if (star)
+  {
+    points.assign(3 * (2 * int64_t(n) + 1), 0.0);
+    for (size_t i = 3; i < points.size(); ++i)
+      points[i] = uniform(rng);
+    for (int i = 0; i < n; ++i)
+    {
+      triangles.insert(triangles.end(), { 0, 2 * int64_t(i) + 1, 2 * int64_t(i) + 2 });
+    }
+  }
+  else
+  {
+    points.resize(3 * int64_t(n));
+    for (int i = 0; i < n; ++i)
+    {
+      const double x = gauss(rng), y = gauss(rng), z = gauss(rng);
+      const double l = std::sqrt(x * x + y * y + z * z);
+      const bool pile = i % 2 == 1;
+      points[3 * i] = pile ? 0.5 : x / l;
+      points[3 * i + 1] = pile ? 0.5 : y / l;
+      points[3 * i + 2] = pile ? 0.5 : z / l;
+    }
+  }
+  std::vector<std::vector<char>> keep;
+  auto block = [&keep](int64_t bytes) {
+    keep.emplace_back(static_cast<size_t>(bytes > 0 ? bytes : 1));
+    return static_cast<void*>(keep.back().data());
+  };
+  plod::Allocator allocate;
+  allocate.Nodes = [&](int64_t nodes, int64_t np, int64_t nt) {
+    plod::OctreeArrays o;
+    o.Level = static_cast<uint8_t*>(block(nodes));
+    o.Parent = static_cast<int32_t*>(block(4 * nodes));
+    o.FirstChild = static_cast<int32_t*>(block(4 * nodes));
+    o.ChildMask = static_cast<uint8_t*>(block(nodes));
+    o.Vertex = static_cast<float*>(block(12 * nodes));
+    o.ConeAxis = static_cast<float*>(block(12 * nodes));
+    o.ConeAngle = static_cast<float*>(block(4 * nodes));
+    o.ShapeError = static_cast<float*>(block(4 * nodes));
+    o.Diffuse = static_cast<float*>(block(8 * nodes));
+    o.Specular = static_cast<float*>(block(8 * nodes));
+    o.Flags = static_cast<uint8_t*>(block(nodes));
+    o.Thickness = static_cast<float*>(block(4 * nodes));
+    o.FirstPoint = static_cast<int32_t*>(block(4 * nodes));
+    o.FirstTriangle = static_cast<int64_t*>(block(8 * nodes));
+    o.FirstCluster = static_cast<int32_t*>(block(4 * nodes));
+    o.Points = static_cast<float*>(block(12 * np));
+    o.Normals = static_cast<float*>(block(12 * np));
+    o.PointLeaf = static_cast<int32_t*>(block(4 * np));
+    o.PointCluster = static_cast<int32_t*>(block(4 * np));
+    o.InputPointId = static_cast<int64_t*>(block(8 * np));
+    o.Triangles = static_cast<int32_t*>(block(12 * nt));
+    return o;
+  };
+  allocate.Clusters = [&](int64_t clusters, plod::OctreeArrays& o) {
+    o.ClusterNode = static_cast<int32_t*>(block(4 * clusters));
+    o.ClusterParent = static_cast<int32_t*>(block(4 * clusters));
+    o.ClusterVertex = static_cast<float*>(block(12 * clusters));
+    o.ClusterNormal = static_cast<float*>(block(12 * clusters));
+  };
+  plod::BuildInput in;
+  in.NumberOfPoints = static_cast<int64_t>(points.size() / 3);
+  in.Points = points.data();
+  in.NumberOfTriangles = static_cast<int64_t>(triangles.size() / 3);
+  in.Triangles = triangles.empty() ? nullptr : triangles.data();
+  const auto start = std::chrono::steady_clock::now();
+  const plod::BuildResult r = plod::BuildOctree(in, plod::BuildParameters(), allocate);
+  const double seconds =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("%s of %d: %s, level %d, %.3f s\n", star ? "star" : "cloud", n,
+    r.Ok ? "built" : r.Error.c_str(), r.FinestLevel, seconds);
+  return r.Ok ? 0 : 1;
+}
