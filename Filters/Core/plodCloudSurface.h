@@ -6,7 +6,8 @@
  * Wang & Sato build the finest level from scattered range data; the octree here needs a mesh,
  * so a cloud is contoured once, at its finest level:
  * 1. normals: given, or by PCA over the points within one cell edge, oriented towards each
- *    point's scanner, a common viewpoint, or away from the centroid;
+ *    point's scanner, a common viewpoint, or away from the centroid (at most 512 candidates
+ *    per point, at an even stride, so that a cell piled with points costs linear time);
  * 2. a signed distance to the oriented points (Hoppe et al. 1992: Gaussian-weighted distances to
  *    the tangent planes of the points in the 8 cells around a grid corner) at the corners of the
  *    occupied cells;

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <utility>
@@ -660,6 +661,15 @@ bool MeshBuild::SortPoints()
   return true;
 }
 
+/// A size in MB for messages, to three significant digits (a tiny limit reads 0.0001 MB, not 0).
+std::string Megabytes(double bytes)
+{
+  char text[32];
+  const double mb = bytes / 1e6;
+  std::snprintf(text, sizeof(text), mb >= 100 ? "%.0f" : "%.3g", mb);
+  return text;
+}
+
 bool MeshBuild::ChooseLevel()
 {
   auto nodesUpTo = [this](int level) {
@@ -678,9 +688,9 @@ bool MeshBuild::ChooseLevel()
     if (need > this->Params.MemoryLimit)
     {
       return this->Fail("the point cloud's surface at level " + std::to_string(this->L) +
-        " would need about " + std::to_string(static_cast<long long>(need / 1e6)) +
+        " would need about " + Megabytes(need) +
         " MB, above the memory limit of " +
-        std::to_string(static_cast<long long>(this->Params.MemoryLimit / 1e6)) +
+        Megabytes(this->Params.MemoryLimit) +
         " MB; lower the finest level or raise the limit");
     }
   }
@@ -692,8 +702,8 @@ bool MeshBuild::ChooseLevel()
     if (need > this->Params.MemoryLimit)
     {
       return this->Fail("finest level " + std::to_string(this->L) + " would need about " +
-        std::to_string(static_cast<long long>(need / 1e6)) + " MB, above the memory limit of " +
-        std::to_string(static_cast<long long>(this->Params.MemoryLimit / 1e6)) +
+        Megabytes(need) + " MB, above the memory limit of " +
+        Megabytes(this->Params.MemoryLimit) +
         " MB; lower the finest level or raise the limit");
     }
   }
@@ -707,15 +717,15 @@ bool MeshBuild::ChooseLevel()
     if (need > this->Params.MemoryLimit)
     {
       return this->Fail("the model needs about " +
-        std::to_string(static_cast<long long>(need / 1e6)) + " MB even at level " +
+        Megabytes(need) + " MB even at level " +
         std::to_string(this->L) + ", above the memory limit of " +
-        std::to_string(static_cast<long long>(this->Params.MemoryLimit / 1e6)) +
+        Megabytes(this->Params.MemoryLimit) +
         " MB; raise the limit");
     }
     if (reason.rfind("lowered", 0) == 0)
     {
       this->R.Warnings.push_back("finest level " + std::to_string(this->L) + ": " + reason +
-        " of " + std::to_string(static_cast<long long>(this->Params.MemoryLimit / 1e6)) +
+        " of " + Megabytes(this->Params.MemoryLimit) +
         " MB; cells coarser than the input's detail hold several points each, and opening a "
         "leaf then draws them all at once");
     }
@@ -1083,12 +1093,16 @@ bool MeshBuild::MakeEdges()
       {
         ++this->R.NumberOfBoundaryEdges;
         const int32_t a = static_cast<int32_t>(p), b = to[i];
-        // the edge's triangle: among a's triangles, the one holding b
+        // the edge's triangle: among the triangles of whichever end has fewer, the one holding
+        // the other end (a hub of d boundary spokes then costs d, not d^2)
         int64_t tri = -1;
-        for (int64_t k = this->IncStart[a]; k < this->IncStart[a + 1] && tri < 0; ++k)
+        const bool fromA =
+          this->IncStart[a + 1] - this->IncStart[a] <= this->IncStart[b + 1] - this->IncStart[b];
+        const int32_t from = fromA ? a : b, other = fromA ? b : a;
+        for (int64_t k = this->IncStart[from]; k < this->IncStart[from + 1] && tri < 0; ++k)
         {
           const int32_t* c = &o.Triangles[3 * this->Inc[k]];
-          if (c[0] == b || c[1] == b || c[2] == b)
+          if (c[0] == other || c[1] == other || c[2] == other)
           {
             tri = this->Inc[k];
           }

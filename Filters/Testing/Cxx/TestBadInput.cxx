@@ -109,6 +109,62 @@ TEST(BadInput, ALongSliverDoesNotHang)
   }
 }
 
+TEST(BadInput, APiledPointCloudDoesNotHang)
+{
+  // a scanned cloud with a pile of duplicates: half of 262,144 points on one spot. The PCA
+  // normals visited every point of the 27 cells around each point, k^2 for a cell of k points
+  // (65,536 points took 26.6 s; this one would take about 7 minutes). They now take at most
+  // 512 evenly spread candidates a point.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g(0, 1);
+  const int n = 262144;
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  for (int i = 0; i < n; ++i)
+  {
+    double x[3] = { g(rng), g(rng), g(rng) };
+    const double l = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    for (double& c : x)
+      c = (i % 2) ? 0.5 : c / l;
+    pts->InsertNextPoint(x);
+  }
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(pts);
+  Pipeline p(cloud);
+  vtkPolyData* out = p.Run();
+  vtkMultiscaleOctree* o = p.Builder->GetOutput();
+  ASSERT_GT(o->GetNumberOfNodes(), 1) << p.Messages->Errors.size();
+  EXPECT_GT(out->GetNumberOfPolys(), 0);
+  // the sphere is still there: the drawn surface spans it
+  double b[6];
+  out->GetBounds(b);
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(b[2 * a + 1] - b[2 * a], 2.0, 0.15) << a;
+}
+
+TEST(BadInput, AHubOfBoundarySpokesDoesNotHang)
+{
+  // 32,000 triangles around one hub point, every spoke a boundary edge: finding each boundary
+  // edge's triangle among the hub's triangles cost 32,000^2 / 2 tests (1.1 s; a million spokes
+  // would take about 20 minutes). It now searches the end with fewer triangles (0.18 s, most of
+  // it sorting). The rest of this build (2 s) is the cells these large triangles cross.
+  const int n = 32000;
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> U(-1, 1);
+  std::vector<double> xyz(3 * (2 * n + 1), 0.0);
+  for (size_t i = 3; i < xyz.size(); ++i)
+    xyz[i] = U(rng);
+  std::vector<vtkIdType> tri;
+  for (int i = 0; i < n; ++i)
+    tri.insert(tri.end(), { 0, 2 * vtkIdType(i) + 1, 2 * vtkIdType(i) + 2 });
+  auto mesh = plodtest::MakeMesh(xyz, tri);
+  Pipeline p(mesh);
+  p.Run();
+  vtkMultiscaleOctree* o = p.Builder->GetOutput();
+  ASSERT_EQ(o->GetNumberOfSurfaceTriangles(), n);
+  EXPECT_EQ(o->GetNumberOfBoundaryEdges(), 3 * n);
+}
+
 TEST(BadInput, ShortOrLongArraysAreErrorsNamingThem)
 {
   auto blob = plodtest::MakeBlob(1, 16, 0.2);
