@@ -87,7 +87,8 @@ enum class VertexRule
   Mean = 0,
   /// Minimiser of the sum of the plane quadrics of the triangles at the cell's points
   /// (Lindstrom 2000), solved by a truncated eigen-decomposition about the mean point and
-  /// clamped to the cell. The default: +2.3 to +2.5 dB over the mean rule at equal triangles.
+  /// clamped to the cell. The default: +1.0 to +1.5 dB over the mean rule at equal triangles
+  /// (trade curves of five models, docs/results/faithful.md).
   QEF = 1
 };
 
