@@ -134,9 +134,11 @@ double vtkMultiscaleOctreeBuilder::GetEffectiveMemoryLimit()
   {
     return this->MemoryLimit;
   }
+  // GetHostMemoryTotal queries the system itself (GetTotalPhysicalMemory reads a value that
+  // only RunMemoryCheck fills in, and was 0 here, which gave the 4 GiB fallback everywhere)
   vtksys::SystemInformation info;
-  const double total = static_cast<double>(info.GetTotalPhysicalMemory()); // MiB
-  return total > 0 ? 0.75 * total : 4096.0;
+  const double totalKiB = static_cast<double>(info.GetHostMemoryTotal());
+  return totalKiB > 0 ? 0.75 * totalKiB / 1024.0 : 4096.0;
 }
 
 //------------------------------------------------------------------------------

@@ -134,7 +134,12 @@ public:
   ///@{
   /**
    * Memory the build may use for itself (the input not counted), in MiB. 0 (default):
-   * automatic, three quarters of the machine's physical memory (GetEffectiveMemoryLimit()).
+   * automatic, three quarters of the machine's physical memory (GetEffectiveMemoryLimit();
+   * 4096 MiB where the system cannot say). The build's peak is about 110 to 155 bytes per
+   * input triangle (docs/benchmarks.md, scale), so 18 GiB, the default on a 24 GiB machine,
+   * holds about 120M triangles. A coarser finest level saves little at that size: the octree
+   * keeps the input's surface (about 32 bytes per triangle) at any level. A larger model needs
+   * a machine with more memory.
    */
   vtkSetMacro(MemoryLimit, double);
   vtkGetMacro(MemoryLimit, double);

@@ -152,6 +152,31 @@ inline vtkSmartPointer<vtkPolyData> MakePlane(double z)
   return MakeMesh({ 0, 0, z, 1, 0, z, 1, 1, z, 0, 1, z }, { 0, 1, 2, 0, 2, 3 });
 }
 
+/// 2,000 tiny separate triangles in the unit cube and one sliver across it, from (0,0,0) to
+/// (1,1,1): fine detail forces deep levels, and the sliver crosses the whole grid (2,001
+/// triangles).
+inline vtkSmartPointer<vtkPolyData> MakeSliverSoup()
+{
+  std::vector<double> xyz;
+  std::vector<vtkIdType> tri;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(0, 1);
+  for (int t = 0; t < 2000; ++t)
+  {
+    const double c[3] = { U(rng), U(rng), U(rng) };
+    for (int k = 0; k < 3; ++k)
+    {
+      tri.push_back(static_cast<vtkIdType>(xyz.size() / 3));
+      for (int a = 0; a < 3; ++a)
+        xyz.push_back(c[a] + 1e-4 * U(rng));
+    }
+  }
+  const vtkIdType s = static_cast<vtkIdType>(xyz.size() / 3);
+  xyz.insert(xyz.end(), { 0, 0, 0, 1, 1, 1, 1, 1, 1.0001 });
+  tri.insert(tri.end(), { s, s + 1, s + 2 });
+  return MakeMesh(xyz, tri);
+}
+
 /**
  * Closed sphere-like surface: a UV sphere of radius `radius` at `centre`, displaced radially by
  * a random sum of low-frequency waves of relative amplitude `noise` (star-shaped, so it never

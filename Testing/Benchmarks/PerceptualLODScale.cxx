@@ -220,6 +220,7 @@ int main(int argc, char* argv[])
   {
     const bool header = !std::ifstream(csv).good();
     std::ofstream out(csv, std::ios::app);
+    out.precision(10); // counts in full, not as 1.996e+06
     if (header)
     {
       out << "triangles,points,build_s,level,nodes,clusters,peak_mb,peak_b_per_tri,"

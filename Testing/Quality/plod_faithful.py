@@ -43,12 +43,11 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkFiltersCore import (vtkAppendPolyData, vtkCleanPolyData, vtkPolyDataNormals,
                                        vtkQuadricDecimation, vtkTriangleFilter)
-from vtkmodules.vtkFiltersSources import vtkSphereSource
-from vtkmodules.vtkIOPLY import vtkPLYReader
 from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer,
                                          vtkRenderWindow, vtkWindowToImageFilter)
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plod_measure as measure  # noqa: E402
 import plod_metrics as metrics  # noqa: E402
 import perceptual_lod as plod  # noqa: E402
 
@@ -61,11 +60,9 @@ BACKGROUND = (0.0, 0.0, 1.0)
 # ---- models ---------------------------------------------------------------------------------
 
 def read_ply(path):
-    reader = vtkPLYReader()
-    reader.SetFileName(path)
-    reader.Update()
+    """The PLY file, checked (plod_measure.read_ply), as triangles."""
     tri = vtkTriangleFilter()
-    tri.SetInputConnection(reader.GetOutputPort())
+    tri.SetInputData(measure.read_ply(path))
     tri.Update()
     pd = vtkPolyData()
     pd.DeepCopy(tri.GetOutput())
@@ -73,24 +70,8 @@ def read_ply(path):
 
 
 def displaced_sphere(resolution, noise=0.25, seed=11):
-    """A closed detailed model: a UV sphere displaced by random waves."""
-    sphere = vtkSphereSource()
-    sphere.SetThetaResolution(resolution)
-    sphere.SetPhiResolution(resolution)
-    sphere.Update()
-    pd = vtkPolyData()
-    pd.DeepCopy(sphere.GetOutput())
-    rng = np.random.default_rng(seed)
-    waves = rng.uniform(-1, 1, size=(8, 4))
-    pts = vtk_to_numpy(pd.GetPoints().GetData())
-    x = pts / np.linalg.norm(pts, axis=1)[:, None]
-    r = np.ones(len(x))
-    for k, w in enumerate(waves):
-        r += noise / 8 * np.sin((1 + 2 * k) * (x @ w[:3]) + 3 * w[3])
-    pts[:] = x * r[:, None]
-    pd.GetPoints().Modified()
-    pd.GetPointData().SetNormals(None)  # the source's normals are the undisplaced sphere's
-    return pd
+    """A closed detailed model: a UV sphere displaced by random waves (the harness's)."""
+    return measure.generated_model(resolution, noise, seed)
 
 
 def grid_surface(nu, nv, fn, closed_u, closed_v):

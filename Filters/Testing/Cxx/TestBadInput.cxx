@@ -81,24 +81,7 @@ struct Pipeline
 TEST(BadInput, ALongSliverDoesNotHang)
 {
   // 2,000 tiny triangles and one sliver across the model, at the deepest levels
-  std::vector<double> xyz;
-  std::vector<vtkIdType> tri;
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> U(0, 1);
-  for (int t = 0; t < 2000; ++t)
-  {
-    const double c[3] = { U(rng), U(rng), U(rng) };
-    for (int k = 0; k < 3; ++k)
-    {
-      tri.push_back(static_cast<vtkIdType>(xyz.size() / 3));
-      for (int a = 0; a < 3; ++a)
-        xyz.push_back(c[a] + 1e-4 * U(rng));
-    }
-  }
-  const vtkIdType s = static_cast<vtkIdType>(xyz.size() / 3);
-  xyz.insert(xyz.end(), { 0, 0, 0, 1, 1, 1, 1, 1, 1.0001 });
-  tri.insert(tri.end(), { s, s + 1, s + 2 });
-  auto mesh = plodtest::MakeMesh(xyz, tri);
+  auto mesh = plodtest::MakeSliverSoup();
   for (int level : { -1, 17, 21 })
   {
     Pipeline p(mesh);
