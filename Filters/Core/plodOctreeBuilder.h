@@ -43,8 +43,8 @@
  *    irrational shift, so that no point lies on the root boundary;
  * 3. points sorted by Morton key at level 21; the finest level chosen (see ChooseFinestLevel);
  * 4. tree: one leaf per occupied finest cell, parents up to the root; point ranges;
- * 5. surface: points, triangles sorted by owner node (the deepest node holding all three
- *    corners), point-to-triangle incidence, shading normals (the input's, or area-weighted);
+ * 5. surface: points, triangles sorted by owner node (the deepest node holding two of its
+ *    corners, where it collapses), point-to-triangle incidence, shading normals (the input's, or area-weighted);
  * 6. edges: every unique edge once; boundary and non-manifold edges counted; boundary planes;
  * 7. clusters: per level, union-find over the edges inside each cell; a cluster per connected
  *    piece; topology flags (Euler characteristic equal to the number of pieces: a union of
