@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Scale benchmark (issue 10): builds, then runs build/bin/PerceptualLODScale once per size (one
 # process each, so that each peak memory is its own) over generated models of 0.25M to 64M
-# triangles, and writes docs/results/scale.csv. About 20 minutes on 2 cores; needs about 11 GB
+# triangles, and writes docs/results/scale.csv. About 20 minutes on 2 cores; needs about 9 GB
 # of memory at 64M. Pass sizes to run only those, e.g. `bash scripts/run-scale.sh 250000 1000000`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
