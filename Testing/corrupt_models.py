@@ -68,6 +68,12 @@ def models():
         ('empty.stl', b'', 'the file is empty'),
         ('missing.obj', None, 'cannot open: No such file or directory'),
         ('folder.vtp', 'dir', 'is a directory'),
+        # octree files (vtkMultiscaleOctreeReader): recognised by their magic, then refused
+        ('short.plod', b'PLODOCT\n' + bytes(20), 'too short for an octree file'),
+        ('version9.plod', b'PLODOCT\n' + struct.pack('<I', 9) + bytes(116),
+         'octree file format version 9'),
+        ('bad_checksum.plod', b'PLODOCT\n' + struct.pack('<4I', 1, 0x01020304, 128, 0) + bytes(104),
+         'corrupt header (checksum mismatch)'),
     ]
 
 

@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// PerceptualLOD's main program. Today: builds the multiscale octree of a model, prints what it
-// holds level by level, and the crack-free patches of each uniform cut. Usage:
+// PerceptualLOD's main program. Today: builds the multiscale octree of a model (or opens one
+// saved before), prints what it holds level by level, and the crack-free patches of each
+// uniform cut. Usage:
 //
-//   PerceptualLODMain [model.ply|.stl|.obj|.vtp] [--level N] [--mean] [--serial]
+//   PerceptualLODMain [model.ply|.stl|.obj|.vtp|.plod] [--level N] [--mean] [--serial]
+//                     [--save octree.plod]
 //
 // Without a file it uses a generated detailed model (a displaced sphere of about 500k
-// triangles), so it runs anywhere.
+// triangles), so it runs anywhere. --save writes the built octree to a file that this program,
+// the viewer and vtkMultiscaleOctreeReader open without building again.
 #include "plodTestUtilities.h"
 
 #include "vtkFieldData.h"
@@ -13,6 +16,8 @@
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
 #include "vtkMultiscaleOctreeCutter.h"
+#include "vtkMultiscaleOctreeReader.h"
+#include "vtkMultiscaleOctreeWriter.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
@@ -26,7 +31,7 @@
 
 int main(int argc, char* argv[])
 {
-  std::string file;
+  std::string file, save;
   int level = -1;
   bool mean = false, serial = false;
   for (int i = 1; i < argc; ++i)
@@ -38,62 +43,98 @@ int main(int argc, char* argv[])
       mean = true;
     else if (a == "--serial")
       serial = true;
+    else if (a == "--save" && i + 1 < argc)
+      save = argv[++i];
     else if (a == "-h" || a == "--help")
     {
       std::printf(
-        "usage: %s [model.ply|.stl|.obj|.vtp] [--level N] [--mean] [--serial]\n", argv[0]);
+        "usage: %s [model.ply|.stl|.obj|.vtp|.plod] [--level N] [--mean] [--serial] "
+        "[--save octree.plod]\n",
+        argv[0]);
       return 0;
     }
     else
       file = a;
   }
-  vtkSmartPointer<vtkPolyData> model;
-  if (file.empty())
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  vtkNew<vtkMultiscaleOctreeReader> reader;
+  vtkMultiscaleOctree* octree = nullptr;
+  if (!file.empty() && vtkMultiscaleOctreeReader::CanReadFile(file.c_str()))
   {
-    std::printf("model: generated displaced sphere\n");
-    model = plodtest::MakeBlob(11, 500, 0.2);
+    reader->SetFileName(file.c_str());
+    reader->Update();
+    octree = reader->GetOutput();
+    if (octree->GetNumberOfNodes() == 0)
+    {
+      std::fprintf(stderr, "%s\ncannot read a model from '%s' (an octree file)\n",
+        reader->GetErrorMessage(), file.c_str());
+      return 1;
+    }
+    std::printf("octree file: %s, opened in %.2f ms (%s)\n", file.c_str(),
+      reader->GetReadTime() * 1e3, reader->GetMapped() ? "mapped" : "read into memory");
   }
   else
   {
-    model = plodtest::ReadModel(file);
-    if (!model)
+    vtkSmartPointer<vtkPolyData> model;
+    if (file.empty())
     {
-      std::fprintf(stderr, "cannot read a model from '%s' (PLY, STL, OBJ or VTP)\n", file.c_str());
+      std::printf("model: generated displaced sphere\n");
+      model = plodtest::MakeBlob(11, 500, 0.2);
+    }
+    else
+    {
+      model = plodtest::ReadModel(file);
+      if (!model)
+      {
+        std::fprintf(
+          stderr, "cannot read a model from '%s' (PLY, STL, OBJ, VTP or .plod)\n", file.c_str());
+        return 1;
+      }
+      std::printf("model: %s\n", file.c_str());
+    }
+    std::printf("input: %lld points, %lld polygons\n",
+      static_cast<long long>(model->GetNumberOfPoints()),
+      static_cast<long long>(model->GetNumberOfPolys() + model->GetNumberOfStrips()));
+    builder->SetInputData(model);
+    builder->SetFinestLevel(level);
+    if (mean)
+      builder->SetVertexRuleToMean();
+    builder->SetMultiThreaded(!serial);
+    builder->Update();
+    octree = builder->GetOutput();
+    if (octree->GetNumberOfNodes() == 0)
+    {
+      std::fprintf(stderr, "the octree is empty (see the builder's messages above)\n");
       return 1;
     }
-    std::printf("model: %s\n", file.c_str());
-  }
-  std::printf("input: %lld points, %lld polygons\n",
-    static_cast<long long>(model->GetNumberOfPoints()),
-    static_cast<long long>(model->GetNumberOfPolys() + model->GetNumberOfStrips()));
-
-  vtkNew<vtkMultiscaleOctreeBuilder> builder;
-  builder->SetInputData(model);
-  builder->SetFinestLevel(level);
-  if (mean)
-    builder->SetVertexRuleToMean();
-  builder->SetMultiThreaded(!serial);
-  builder->Update();
-  vtkMultiscaleOctree* octree = builder->GetOutput();
-  if (octree->GetNumberOfNodes() == 0)
-  {
-    std::fprintf(stderr, "the octree is empty (see the builder's messages above)\n");
-    return 1;
+    std::printf("finest level: %s\n", builder->GetFinestLevelReason());
+    std::printf("build: %.1f ms (%s), %lld triangles kept, %lld skipped, %lld nodes not "
+                "topologically safe\n",
+      builder->GetBuildTime() * 1e3, serial ? "1 thread" : "vtkSMPTools",
+      static_cast<long long>(octree->GetNumberOfSurfaceTriangles()),
+      static_cast<long long>(builder->GetNumberOfSkippedTriangles()),
+      static_cast<long long>(builder->GetNumberOfUnsafeNodes()));
   }
   std::printf("octree: %lld nodes, finest level %d, root edge %g at (%g, %g, %g)\n",
     static_cast<long long>(octree->GetNumberOfNodes()), octree->GetFinestLevel(),
     octree->GetRootEdge(), octree->GetOrigin()[0], octree->GetOrigin()[1],
     octree->GetOrigin()[2]);
-  std::printf("finest level: %s\n", builder->GetFinestLevelReason());
-  std::printf("build: %.1f ms (%s), %lld triangles kept, %lld skipped, %lld nodes not "
-              "topologically safe\n",
-    builder->GetBuildTime() * 1e3, serial ? "1 thread" : "vtkSMPTools",
-    static_cast<long long>(octree->GetNumberOfSurfaceTriangles()),
-    static_cast<long long>(builder->GetNumberOfSkippedTriangles()),
-    static_cast<long long>(builder->GetNumberOfUnsafeNodes()));
   std::printf("memory: %.1f MiB (%.1f bytes per input triangle)\n",
     octree->GetActualMemorySize() / 1024.0,
     octree->GetActualMemorySize() * 1024.0 / std::max<vtkIdType>(1, octree->GetNumberOfSurfaceTriangles()));
+  if (!save.empty())
+  {
+    vtkNew<vtkMultiscaleOctreeWriter> writer;
+    writer->SetInputData(octree);
+    writer->SetFileName(save.c_str());
+    if (!writer->Write())
+    {
+      std::fprintf(stderr, "cannot save the octree: %s\n", writer->GetErrorMessage());
+      return 1;
+    }
+    std::printf("saved: %s (open it with this program, the viewer or vtkMultiscaleOctreeReader)\n",
+      save.c_str());
+  }
 
   vtkFieldData* nd = octree->GetNodeData();
   auto* lv = vtkUnsignedCharArray::SafeDownCast(nd->GetArray("Level"));

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // PerceptualLOD's viewer: renders a model with the perceptual LOD, frame by frame.
 //
-//   PerceptualLODViewer [model.ply|.stl|.obj|.vtp] [--offscreen] [--frames N] [--out DIR]
+//   PerceptualLODViewer [model.ply|.stl|.obj|.vtp|.plod] [--offscreen] [--frames N] [--out DIR]
 //                       [--size W H] [--level L] [--mode srcc|tmm|scvc|psec|distance|ipv|dpv|fovea]
 //
 // Without a file it uses a generated detailed model (a displaced sphere, about 250k triangles).
@@ -22,6 +22,8 @@
 #include "vtkInteractorStyleTrackballCamera.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
+#include "vtkMultiscaleOctreeCutter.h"
+#include "vtkMultiscaleOctreeReader.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
 #include "vtkPNGWriter.h"
@@ -240,18 +242,46 @@ int main(int argc, char* argv[])
     else
       file = a;
   }
-  vtkSmartPointer<vtkPolyData> model =
-    file.empty() ? plodtest::MakeBlob(11, 350, 0.2) : plodtest::ReadModel(file);
+  // an octree file (PerceptualLODMain --save) opens without a build; its full-resolution
+  // reference is the octree's finest cut, which is the input surface
+  const bool octreeFile = !file.empty() && vtkMultiscaleOctreeReader::CanReadFile(file.c_str());
+  vtkNew<vtkMultiscaleOctreeReader> reader;
+  vtkSmartPointer<vtkPolyData> model;
+  if (octreeFile)
+  {
+    reader->SetFileName(file.c_str());
+    reader->Update();
+    if (reader->GetOutput()->GetNumberOfNodes() == 0)
+    {
+      std::fprintf(stderr, "%s\ncannot read a model from '%s' (an octree file)\n",
+        reader->GetErrorMessage(), file.c_str());
+      return 1;
+    }
+    vtkNew<vtkMultiscaleOctreeCutter> fullCut;
+    fullCut->SetInputConnection(reader->GetOutputPort());
+    fullCut->SetLevel(-1);
+    vtkNew<vtkMultiscalePatchGenerator> fullPatches;
+    fullPatches->SetInputConnection(fullCut->GetOutputPort());
+    fullPatches->Update();
+    model = vtkSmartPointer<vtkPolyData>::New();
+    model->DeepCopy(fullPatches->GetOutput());
+  }
+  else
+  {
+    model = file.empty() ? plodtest::MakeBlob(11, 350, 0.2) : plodtest::ReadModel(file);
+  }
   if (!model)
   {
-    std::fprintf(stderr, "cannot read a model from '%s' (PLY, STL, OBJ or VTP)\n", file.c_str());
+    std::fprintf(stderr, "cannot read a model from '%s' (PLY, STL, OBJ, VTP or .plod)\n",
+      file.c_str());
     return 1;
   }
 
   Viewer v;
   v.Builder->SetInputData(model);
   v.Builder->SetFinestLevel(level);
-  v.Selector->SetInputConnection(v.Builder->GetOutputPort());
+  v.Selector->SetInputConnection(
+    octreeFile ? reader->GetOutputPort() : v.Builder->GetOutputPort());
   v.Patches->SetInputConnection(v.Selector->GetOutputPort());
   v.LODMapper->SetInputConnection(v.Patches->GetOutputPort());
   // the full-resolution reference, smooth-shaded like the LOD (whose normals are area-weighted mean normals)
@@ -296,11 +326,23 @@ int main(int argc, char* argv[])
   double modelBounds[6];
   model->GetBounds(modelBounds);
   v.Renderer->ResetCamera(modelBounds);
-  v.Builder->Update();
-  std::printf("model: %lld triangles; octree: %lld nodes, level %d, built in %.0f ms\n",
-    static_cast<long long>(model->GetNumberOfPolys()),
-    static_cast<long long>(v.Builder->GetOutput()->GetNumberOfNodes()),
-    v.Builder->GetOutput()->GetFinestLevel(), v.Builder->GetBuildTime() * 1e3);
+  if (octreeFile)
+  {
+    std::printf("model: %lld triangles; octree: %lld nodes, level %d, opened from %s in %.1f ms "
+                "(%s)\n",
+      static_cast<long long>(model->GetNumberOfPolys()),
+      static_cast<long long>(reader->GetOutput()->GetNumberOfNodes()),
+      reader->GetOutput()->GetFinestLevel(), file.c_str(), reader->GetReadTime() * 1e3,
+      reader->GetMapped() ? "mapped" : "read");
+  }
+  else
+  {
+    v.Builder->Update();
+    std::printf("model: %lld triangles; octree: %lld nodes, level %d, built in %.0f ms\n",
+      static_cast<long long>(model->GetNumberOfPolys()),
+      static_cast<long long>(v.Builder->GetOutput()->GetNumberOfNodes()),
+      v.Builder->GetOutput()->GetFinestLevel(), v.Builder->GetBuildTime() * 1e3);
+  }
 
   if (!offscreen)
   {

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file plodOctreeFile.h
+ * @brief VTK-free reading and writing of octree files (`.plod`), version 1.
+ *
+ * The file holds every array of a vtkMultiscaleOctree and its root cube, so that a large scan
+ * is built once and opened in milliseconds afterwards. Layout, all integers and floats
+ * little-endian whatever the machine:
+ *
+ * | offset | size | field |
+ * | ---: | ---: | --- |
+ * | 0 | 8 | magic `P L O D O C T \n` |
+ * | 8 | 4 | format version (1) |
+ * | 12 | 4 | byte-order mark 0x01020304 (bytes 04 03 02 01) |
+ * | 16 | 4 | header size in bytes (128 + 64 per array) |
+ * | 20 | 4 | number of arrays |
+ * | 24 | 24 | origin (3 doubles) |
+ * | 48 | 8 | root edge (double) |
+ * | 56 | 4 | finest level (int32) |
+ * | 60 | 4 | flags (bit 0: material ranges come from input arrays) |
+ * | 64 | 48 | nodes, points, triangles, clusters, boundary edges, non-manifold edges (int64) |
+ * | 112 | 8 | file size in bytes |
+ * | 120 | 4 | checksum of the header and directory (this field counted as 0) |
+ * | 124 | 4 | reserved (0) |
+ * | 128 | 64 each | directory: name (32 bytes, NUL-padded), group (1: 0 node, 1 cluster, 2 surface point, 3 surface triangle), type (1: uint8, 2: int32, 3: float32, 4: int64), components (uint16), reserved (4), tuples (int64), offset (uint64), checksum of the data (uint64) |
+ *
+ * Each array's data starts at a multiple of 4096 bytes (so that it can be mapped in place) and
+ * holds tuples x components values. The checksums are 64-bit FNV-1a over 8-byte words (the
+ * tail byte by byte); the header's is folded to 32 bits.
+ *
+ * Reading maps the file (copy-on-write: edits of the arrays never reach the file) and checks
+ * everything that does not need the data: magic, version, byte order, header checksum, sizes,
+ * offsets inside the file, counts that agree with each group. The data's checksums are checked
+ * only when asked (it reads every byte); the octree's consistency is checked by the filters that
+ * use it (vtkMultiscaleOctree::IsConsistent).
+ */
+#ifndef plodOctreeFile_h
+#define plodOctreeFile_h
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace plod
+{
+
+/// The file-level facts of an octree.
+struct OctreeFileHeader
+{
+  double Origin[3] = { 0, 0, 0 };
+  double RootEdge = 1;
+  int32_t FinestLevel = 0;
+  bool HasMaterialArrays = false;
+  int64_t Nodes = 0, Points = 0, Triangles = 0, Clusters = 0;
+  int64_t BoundaryEdges = 0, NonManifoldEdges = 0;
+};
+
+enum class FileArrayType : uint8_t
+{
+  UInt8 = 1,
+  Int32 = 2,
+  Float32 = 3,
+  Int64 = 4
+};
+
+/// What an array has one tuple per.
+enum class FileArrayGroup : uint8_t
+{
+  Node = 0,
+  Cluster = 1,
+  Point = 2,
+  Triangle = 3
+};
+
+/// Size in bytes of one value of a type (0 for an unknown type).
+int FileTypeSize(FileArrayType type);
+
+/// One array to write, or one array read (then Data points into the mapped file).
+struct FileArray
+{
+  std::string Name; // at most 31 bytes
+  FileArrayGroup Group = FileArrayGroup::Node;
+  FileArrayType Type = FileArrayType::UInt8;
+  int Components = 1;
+  int64_t Tuples = 0;
+  const void* Data = nullptr; // host byte order
+  uint64_t Checksum = 0;      // when read: the stored one
+};
+
+/// One array of the octree's schema (vtkMultiscaleOctree's documented arrays).
+struct FileArraySpec
+{
+  const char* Name;
+  FileArrayGroup Group;
+  FileArrayType Type;
+  int Components;
+};
+
+/// The arrays an octree file of version 1 holds, in file order: the 15 node arrays, the 4
+/// cluster arrays, the 5 point arrays and the triangles.
+const std::vector<FileArraySpec>& OctreeFileSchema();
+
+/// Writes `arrays` and `header` to `path` (replacing it). False with `error` set on failure.
+bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
+  const std::vector<FileArray>& arrays, std::string* error);
+
+/**
+ * An octree file opened for reading. Open maps it (or, where mapping fails or the machine is
+ * big-endian, reads it into memory) and checks its structure; the arrays' Data point into that
+ * memory, which lives as long as the longest-lived holder of the shared pointer `Memory`.
+ */
+struct OctreeFile
+{
+  OctreeFileHeader Header;
+  std::vector<FileArray> Arrays;
+  std::shared_ptr<void> Memory; // keeps the mapping (or buffer) alive
+  bool Mapped = false;          // true when Data point into a memory map of the file
+};
+
+/**
+ * Opens `path`. `verifyChecksums` also reads every array and compares its checksum (slower: it
+ * touches the whole file). `mapFile` false reads the file into memory instead of mapping it.
+ * False with `error` set (what is wrong, and where) on a missing, truncated, corrupt or foreign
+ * file.
+ */
+bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out,
+  std::string* error);
+
+/// 64-bit FNV-1a over 8-byte little-endian words, then the tail bytes.
+uint64_t FileChecksum(const void* data, size_t bytes);
+
+} // namespace plod
+
+#endif

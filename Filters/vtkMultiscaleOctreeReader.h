@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class   vtkMultiscaleOctreeReader
+ * @brief   reads an octree file (`.plod`) written by vtkMultiscaleOctreeWriter
+ *
+ * The reader maps the file into memory (copy-on-write: editing an array never changes the
+ * file) and hands the mapped bytes to the octree's arrays without copying, so opening costs
+ * about the same for any size: the pages are read when a filter first touches them. The
+ * mapping is released when the last array using it is deleted.
+ *
+ * @code{.py}
+ * reader = vtkMultiscaleOctreeReader()
+ * reader.SetFileName("model.plod")
+ * selector.SetInputConnection(reader.GetOutputPort())
+ * @endcode
+ *
+ * Everything about the file is checked before any array is made: the magic, the format
+ * version, the byte order, a checksum of the header and directory, the stated size against the
+ * real one (a truncated copy), every array's name, type, size and place in the file. A missing,
+ * truncated, corrupt or foreign file gives an error saying what is wrong and an empty octree,
+ * never a crash. VerifyChecksums also compares every array's data with its checksum (this
+ * reads the whole file). Without it, damage inside the data is caught when a filter first uses
+ * the octree (vtkMultiscaleOctree::IsConsistent: an error and an empty output), except values
+ * that stay plausible, such as a vertex moved inside its cell.
+ *
+ * @sa vtkMultiscaleOctreeWriter vtkMultiscaleOctree
+ */
+#ifndef vtkMultiscaleOctreeReader_h
+#define vtkMultiscaleOctreeReader_h
+
+#include "PerceptualLODFiltersModule.h" // for export macro
+#include "vtkMultiscaleOctreeAlgorithm.h"
+
+#include <string> // for ErrorMessage
+
+class PERCEPTUALLODFILTERS_EXPORT vtkMultiscaleOctreeReader : public vtkMultiscaleOctreeAlgorithm
+{
+public:
+  static vtkMultiscaleOctreeReader* New();
+  vtkTypeMacro(vtkMultiscaleOctreeReader, vtkMultiscaleOctreeAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The file to read. Default none.
+  vtkSetStringMacro(FileName);
+  vtkGetStringMacro(FileName);
+  ///@}
+
+  ///@{
+  /// Compare every array with its checksum (reads the whole file). Default off.
+  vtkSetMacro(VerifyChecksums, bool);
+  vtkGetMacro(VerifyChecksums, bool);
+  vtkBooleanMacro(VerifyChecksums, bool);
+  ///@}
+
+  ///@{
+  /// Map the file (default on); off reads it into memory instead.
+  vtkSetMacro(MemoryMap, bool);
+  vtkGetMacro(MemoryMap, bool);
+  vtkBooleanMacro(MemoryMap, bool);
+  ///@}
+
+  /// True when the last read mapped the file (false: it was read into memory).
+  vtkGetMacro(Mapped, bool);
+
+  /// Why the last read failed ("" after a success).
+  const char* GetErrorMessage() { return this->ErrorMessage.c_str(); }
+
+  /// Seconds the last read took (opening and checking the file, making the arrays).
+  vtkGetMacro(ReadTime, double);
+
+  /// True when `path` starts like an octree file (the magic), for programs choosing a reader.
+  static bool CanReadFile(const char* path);
+
+protected:
+  vtkMultiscaleOctreeReader();
+  ~vtkMultiscaleOctreeReader() override;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  char* FileName = nullptr;
+  bool VerifyChecksums = false;
+  bool MemoryMap = true;
+  bool Mapped = false;
+  double ReadTime = 0;
+  std::string ErrorMessage;
+
+private:
+  vtkMultiscaleOctreeReader(const vtkMultiscaleOctreeReader&) = delete;
+  void operator=(const vtkMultiscaleOctreeReader&) = delete;
+};
+
+#endif

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class   vtkMultiscaleOctreeWriter
+ * @brief   writes a vtkMultiscaleOctree to an octree file (`.plod`)
+ *
+ * A built octree is saved once and opened in milliseconds afterwards by
+ * vtkMultiscaleOctreeReader, instead of being built again at every launch:
+ *
+ * @code{.py}
+ * writer = vtkMultiscaleOctreeWriter()
+ * writer.SetInputConnection(builder.GetOutputPort())
+ * writer.SetFileName("model.plod")
+ * if not writer.Write():
+ *     raise IOError(writer.GetErrorMessage())
+ * @endcode
+ *
+ * The file holds every documented node, cluster and surface array, the root cube, the finest
+ * level and the edge counts, in a versioned little-endian layout with checksums (see
+ * plodOctreeFile.h in Filters/Core). The cut ("CutState", "CullMask") and any other array are
+ * not saved: a cut belongs to a view. An octree that fails vtkMultiscaleOctree::IsConsistent()
+ * is refused with an error, so a file always holds an octree the filters accept.
+ *
+ * @sa vtkMultiscaleOctreeReader vtkMultiscaleOctreeBuilder
+ */
+#ifndef vtkMultiscaleOctreeWriter_h
+#define vtkMultiscaleOctreeWriter_h
+
+#include "PerceptualLODFiltersModule.h" // for export macro
+#include "vtkWriter.h"
+
+#include <string> // for ErrorMessage
+
+class vtkMultiscaleOctree;
+
+class PERCEPTUALLODFILTERS_EXPORT vtkMultiscaleOctreeWriter : public vtkWriter
+{
+public:
+  static vtkMultiscaleOctreeWriter* New();
+  vtkTypeMacro(vtkMultiscaleOctreeWriter, vtkWriter);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The file to write (replaced if it exists). Default none.
+  vtkSetStringMacro(FileName);
+  vtkGetStringMacro(FileName);
+  ///@}
+
+  /// The octree written last.
+  vtkMultiscaleOctree* GetInput();
+
+  /// Why the last Write() failed ("" after a success).
+  const char* GetErrorMessage() { return this->ErrorMessage.c_str(); }
+
+protected:
+  vtkMultiscaleOctreeWriter();
+  ~vtkMultiscaleOctreeWriter() override;
+
+  void WriteData() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  char* FileName = nullptr;
+  std::string ErrorMessage;
+
+private:
+  vtkMultiscaleOctreeWriter(const vtkMultiscaleOctreeWriter&) = delete;
+  void operator=(const vtkMultiscaleOctreeWriter&) = delete;
+};
+
+#endif
