@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer target of the VTK-free kernels with clang-14 and fuzzes for a while.
+# Builds a libFuzzer target of the VTK-free kernels with clang-14 and fuzzes for a while.
 #   bash scripts/run-fuzz.sh [seconds]      (default 60)
+# PLOD_FUZZ_TARGET=FuzzOctreeFile fuzzes the octree-file reader instead of the build
+# (FuzzOctreeBuild, the default), from Testing/Fuzz/corpus-file.
 # Installs nothing (scripts/install-deps.sh provides clang-14 and libclang-rt-14-dev).
 # Configures and builds build-fuzz/ (or $PLOD_FUZZ_BUILD_DIR), fuzzes a copy of
 # Testing/Fuzz/corpus (the repository is not modified), prints libFuzzer's figures, and exits
@@ -11,6 +13,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 build="${PLOD_FUZZ_BUILD_DIR:-build-fuzz}"
+target="${PLOD_FUZZ_TARGET:-FuzzOctreeBuild}"
+case "$target" in
+  FuzzOctreeBuild) seeds=Testing/Fuzz/corpus ;;
+  FuzzOctreeFile) seeds=Testing/Fuzz/corpus-file ;;
+  *) echo "run-fuzz.sh: unknown PLOD_FUZZ_TARGET '$target'" >&2; exit 2 ;;
+esac
 for tool in clang-14 clang++-14 cmake ninja; do
   command -v "$tool" > /dev/null || { echo "run-fuzz.sh: $tool not found (run scripts/install-deps.sh)" >&2; exit 2; }
 done
@@ -20,17 +28,17 @@ if [ ! -f "$build/CMakeCache.txt" ]; then
     -DCMAKE_BUILD_TYPE=RelWithDebInfo > "$build/configure.log" 2>&1 \
     || { cat "$build/configure.log" >&2; rm -f "$build/CMakeCache.txt"; exit 2; }
 fi
-cmake --build "$build" --target FuzzOctreeBuild
-work="$build/fuzz-run"
+cmake --build "$build" --target "$target"
+work="$build/fuzz-run-$target"
 rm -rf "$work"
 mkdir -p "$work/corpus" "$build/artifacts"
-cp Testing/Fuzz/corpus/* "$work/corpus/"
-echo "run-fuzz.sh: fuzzing for $seconds s on a copy of Testing/Fuzz/corpus ($(ls "$work/corpus" | wc -l) files)"
+cp "$seeds"/* "$work/corpus/"
+echo "run-fuzz.sh: fuzzing $target for $seconds s on a copy of $seeds ($(ls "$work/corpus" | wc -l) files)"
 # -timeout: a hang is an input that takes longer (typical inputs take tens of milliseconds).
 # -max_len: a few thousand points in the compact encodings; longer models come from the
 # generator inside the target. -rss_limit_mb: the largest builds stay far below it.
 set +e
-"$build/bin/FuzzOctreeBuild" "$work/corpus" \
+"$build/bin/$target" "$work/corpus" \
   "-max_total_time=$seconds" "-timeout=${PLOD_FUZZ_TIMEOUT:-25}" -max_len=16384 -rss_limit_mb=2048 \
   -print_final_stats=1 -artifact_prefix="$build/artifacts/" ${PLOD_FUZZ_OPTIONS:-} \
   2>&1 | tee "$work/fuzz.log" | grep --line-buffered -v '^#[0-9]*[[:space:]]*\(NEW\|REDUCE\)'

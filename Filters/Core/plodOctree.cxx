@@ -50,6 +50,7 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
   {
     return fail("the root's point, triangle and cluster ranges do not start at 0");
   }
+  int64_t listedChildren = 0; // children named by the masks (each points back: checked below)
   for (int64_t i = 0; i < n; ++i)
   {
     const std::string node = "node " + std::to_string(i);
@@ -110,6 +111,7 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
     else
     {
       const int count = __builtin_popcount(mask);
+      listedChildren += count;
       const int64_t first = v.FirstChild[i];
       if (first <= i || first + count > n)
       {
@@ -137,6 +139,14 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
       return fail(node + " has a non-finite vertex or axis, a cone angle outside [0, pi] or a "
                          "negative shape error or thickness");
     }
+  }
+  // every node but the root is some node's child: the listed children point back to their
+  // parents, so they are distinct, and there must be n - 1 of them (a child mask that lost a
+  // bit leaves a node that names a parent which does not list it; found by fuzzing)
+  if (listedChildren != n - 1)
+  {
+    return fail("the child masks list " + std::to_string(listedChildren) + " children for " +
+      std::to_string(n - 1) + " non-root nodes");
   }
   // a node's points end where the next node of its level starts: a child range must end
   // within its parent's (ranges are in Morton order, so nesting follows from the starts)

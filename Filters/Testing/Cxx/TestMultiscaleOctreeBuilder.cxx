@@ -26,6 +26,7 @@
 #include "vtkSMPTools.h"
 #include "vtkMath.h"
 #include "vtkStaticPointLocator.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
 
@@ -1083,6 +1084,20 @@ TEST(MultiscaleOctreeBuilder, CorruptArraysAreReportedNotFollowed)
     e.A->Modified();
     EXPECT_TRUE(b.Octree->IsConsistent());
   }
+  // a child mask that lost a bit: the child still names its parent, which no longer lists it
+  // (found by fuzzing octree files: the full cut then held a node and its ancestor)
+  auto* mask = vtkUnsignedCharArray::SafeDownCast(b.Octree->GetNodeData()->GetArray("ChildMask"));
+  ASSERT_NE(mask, nullptr);
+  const unsigned char rootMask = mask->GetValue(0);
+  ASSERT_GT(rootMask & (rootMask - 1), 0) << "the root has at least two children";
+  mask->SetValue(0, static_cast<unsigned char>(rootMask & (rootMask - 1))); // lowest bit off
+  mask->Modified();
+  std::string why;
+  EXPECT_FALSE(b.Octree->CheckConsistency(&why));
+  EXPECT_NE(why.find("child masks list"), std::string::npos) << why;
+  mask->SetValue(0, rootMask);
+  mask->Modified();
+  EXPECT_TRUE(b.Octree->IsConsistent());
 }
 
 TEST(MultiscaleOctreeBuilder, StanfordBunnyMesh)

@@ -1,0 +1,378 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file FuzzOctreeFile.cxx
+ * @brief libFuzzer target for octree files (plodOctreeFile) and for the octree validation a
+ * file's arrays then meet (plod::ValidateOctree), with the cut, patches and selector run on
+ * whatever the validation accepts.
+ *
+ * Each input builds a small valid octree (a noisy closed UV sphere or an open sheet whose size,
+ * noise and level come from the first bytes), writes it as a `.plod` file, damages the file as
+ * the rest of the input says, and opens it:
+ *
+ *   byte 0: shape (bit 0: open sheet), resolution 3 + (byte >> 1) % 14
+ *   byte 1: finest level: -1 (automatic) or 1 + byte % 7
+ *   byte 2: flags. bit 0: recompute the header checksum and size after the damage (so that
+ *           the damage reaches the arrays and the validation); bit 1: verify the arrays'
+ *           checksums; bit 2: read into memory instead of mapping; bit 3: truncate at the
+ *           position of the first edit
+ *   then edits of 5 bytes: a position (uint32 little-endian, modulo the file size) and a byte
+ *           to XOR there (0 sets the byte to 0xff)
+ *
+ * Checked: OpenOctreeFile never crashes, and when it accepts the file every array lies inside
+ * its memory (every byte is read); when the arrays make a view that ValidateOctree accepts,
+ * uniform cuts and the full cut pass ValidateCut and GeneratePatches returns in-range output,
+ * and the selector's cut passes ValidateCut. The undamaged file reads back bit for bit.
+ * PLOD_FUZZ_VERBOSE=1 names the array and value each edit damages.
+ */
+#include "plodCut.h"
+#include "plodOctree.h"
+#include "plodOctreeBuilder.h"
+#include "plodOctreeFile.h"
+#include "plodPatches.h"
+#include "plodSelector.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace
+{
+#define CHECK(cond, what)                                                                        \
+  do                                                                                             \
+  {                                                                                              \
+    if (!(cond))                                                                                 \
+    {                                                                                            \
+      std::fprintf(stderr, "FuzzOctreeFile: check failed: %s (%s)\n", #cond,                     \
+        std::string(what).c_str());                                                              \
+      std::abort();                                                                              \
+    }                                                                                            \
+  } while (0)
+
+/// Storage for one build's arrays.
+struct Storage
+{
+  std::vector<std::vector<char>> Blocks;
+  void* Block(int64_t bytes)
+  {
+    this->Blocks.emplace_back(static_cast<size_t>(bytes > 0 ? bytes : 1));
+    return this->Blocks.back().data();
+  }
+};
+
+/// The schema's arrays of a built octree, for WriteOctreeFile.
+std::vector<plod::FileArray> FileArrays(const plod::OctreeArrays& o, const plod::BuildResult& r)
+{
+  const void* data[] = { o.Level, o.Parent, o.FirstChild, o.ChildMask, o.Vertex, o.ConeAxis,
+    o.ConeAngle, o.ShapeError, o.Diffuse, o.Specular, o.Flags, o.Thickness, o.FirstPoint,
+    o.FirstTriangle, o.FirstCluster, o.ClusterNode, o.ClusterParent, o.ClusterVertex,
+    o.ClusterNormal, o.Points, o.Normals, o.PointLeaf, o.PointCluster, o.InputPointId,
+    o.Triangles };
+  std::vector<plod::FileArray> arrays;
+  size_t k = 0;
+  for (const plod::FileArraySpec& spec : plod::OctreeFileSchema())
+  {
+    plod::FileArray f;
+    f.Name = spec.Name;
+    f.Group = spec.Group;
+    f.Type = spec.Type;
+    f.Components = spec.Components;
+    f.Tuples = spec.Group == plod::FileArrayGroup::Node ? r.NumberOfNodes
+      : spec.Group == plod::FileArrayGroup::Cluster      ? r.NumberOfClusters
+      : spec.Group == plod::FileArrayGroup::Point        ? r.NumberOfPoints
+                                                         : r.NumberOfTriangles;
+    f.Data = data[k++];
+    arrays.push_back(f);
+  }
+  return arrays;
+}
+
+/// A view of the arrays read, when every schema array is there with its type; else false.
+bool ViewOf(const plod::OctreeFile& file, plod::OctreeView& v)
+{
+  const plod::OctreeFileHeader& h = file.Header;
+  v = plod::OctreeView();
+  v.NumberOfNodes = h.Nodes;
+  v.FinestLevel = h.FinestLevel;
+  for (int k = 0; k < 3; ++k)
+    v.Origin[k] = h.Origin[k];
+  v.RootEdge = h.RootEdge;
+  v.NumberOfClusters = h.Clusters;
+  v.NumberOfPoints = h.Points;
+  v.NumberOfTriangles = h.Triangles;
+  const void** slot[] = { (const void**)&v.Level, (const void**)&v.Parent,
+    (const void**)&v.FirstChild, (const void**)&v.ChildMask, (const void**)&v.Vertex,
+    (const void**)&v.ConeAxis, (const void**)&v.ConeAngle, (const void**)&v.ShapeError,
+    (const void**)&v.Diffuse, (const void**)&v.Specular, (const void**)&v.Flags,
+    (const void**)&v.Thickness, (const void**)&v.FirstPoint, (const void**)&v.FirstTriangle,
+    (const void**)&v.FirstCluster, (const void**)&v.ClusterNode, (const void**)&v.ClusterParent,
+    (const void**)&v.ClusterVertex, (const void**)&v.ClusterNormal, (const void**)&v.Points,
+    (const void**)&v.Normals, (const void**)&v.PointLeaf, (const void**)&v.PointCluster,
+    (const void**)&v.InputPointId, (const void**)&v.Triangles };
+  size_t k = 0;
+  for (const plod::FileArraySpec& spec : plod::OctreeFileSchema())
+  {
+    const plod::FileArray* match = nullptr;
+    for (const plod::FileArray& f : file.Arrays)
+      if (f.Group == spec.Group && f.Name == spec.Name)
+        match = &f;
+    if (!match || match->Type != spec.Type || match->Components != spec.Components)
+    {
+      return false;
+    }
+    *slot[k++] = match->Data;
+  }
+  return true;
+}
+
+void CheckPatches(const plod::OctreeView& v, const uint8_t* state, const std::string& what)
+{
+  plod::PatchResult out;
+  std::string why;
+  const bool ok = plod::GeneratePatches(v, state, nullptr, out, &why);
+  CHECK(ok, what + ": " + why);
+  const int64_t points = static_cast<int64_t>(out.PointSource.size());
+  for (int64_t t : out.Triangles)
+  {
+    CHECK(t >= 0 && t < points, what + ": corner out of range");
+  }
+  for (int64_t s : out.PointSource)
+  {
+    CHECK((s >= 0 && s < v.NumberOfClusters) || (s < 0 && -1 - s < v.NumberOfPoints),
+      what + ": source out of range");
+  }
+}
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
+{
+  if (size < 3)
+  {
+    return 0;
+  }
+  // the model: a noisy closed UV sphere or an open sheet
+  const bool sheet = data[0] & 1;
+  const int res = 3 + (data[0] >> 1) % 14;
+  uint32_t seed = 2166136261u;
+  for (size_t i = 0; i < size; ++i)
+    seed = (seed ^ data[i]) * 16777619u;
+  auto noise = [&seed]() {
+    seed = seed * 1664525u + 1013904223u;
+    return double(seed >> 8) / double(1u << 24) - 0.5;
+  };
+  std::vector<double> points;
+  std::vector<int64_t> triangles;
+  const int nu = res, nv = res;
+  for (int i = 0; i <= nv; ++i)
+    for (int j = 0; j < nu; ++j)
+    {
+      const double u = 2 * M_PI * j / nu, w = M_PI * i / nv;
+      const double r = 1 + 0.2 * noise();
+      if (sheet)
+        points.insert(points.end(), { double(j), double(i), 0.3 * noise() });
+      else
+        points.insert(points.end(),
+          { r * std::sin(w) * std::cos(u), r * std::sin(w) * std::sin(u), r * std::cos(w) });
+    }
+  for (int i = 0; i < nv; ++i)
+    for (int j = 0; j < nu; ++j)
+    {
+      if (sheet && j + 1 == nu)
+        continue;
+      const int64_t a = i * nu + j, b = i * nu + (j + 1) % nu, c = a + nu, d = b + nu;
+      triangles.insert(triangles.end(), { a, b, d, a, d, c });
+    }
+  Storage storage;
+  plod::OctreeArrays arrays;
+  plod::Allocator allocate;
+  allocate.Nodes = [&](int64_t nodes, int64_t np, int64_t nt) {
+    plod::OctreeArrays& o = arrays;
+    o.Level = static_cast<uint8_t*>(storage.Block(nodes));
+    o.Parent = static_cast<int32_t*>(storage.Block(4 * nodes));
+    o.FirstChild = static_cast<int32_t*>(storage.Block(4 * nodes));
+    o.ChildMask = static_cast<uint8_t*>(storage.Block(nodes));
+    o.Vertex = static_cast<float*>(storage.Block(12 * nodes));
+    o.ConeAxis = static_cast<float*>(storage.Block(12 * nodes));
+    o.ConeAngle = static_cast<float*>(storage.Block(4 * nodes));
+    o.ShapeError = static_cast<float*>(storage.Block(4 * nodes));
+    o.Diffuse = static_cast<float*>(storage.Block(8 * nodes));
+    o.Specular = static_cast<float*>(storage.Block(8 * nodes));
+    o.Flags = static_cast<uint8_t*>(storage.Block(nodes));
+    o.Thickness = static_cast<float*>(storage.Block(4 * nodes));
+    o.FirstPoint = static_cast<int32_t*>(storage.Block(4 * nodes));
+    o.FirstTriangle = static_cast<int64_t*>(storage.Block(8 * nodes));
+    o.FirstCluster = static_cast<int32_t*>(storage.Block(4 * nodes));
+    o.Points = static_cast<float*>(storage.Block(12 * np));
+    o.Normals = static_cast<float*>(storage.Block(12 * np));
+    o.PointLeaf = static_cast<int32_t*>(storage.Block(4 * np));
+    o.PointCluster = static_cast<int32_t*>(storage.Block(4 * np));
+    o.InputPointId = static_cast<int64_t*>(storage.Block(8 * np));
+    o.Triangles = static_cast<int32_t*>(storage.Block(12 * nt));
+    return o;
+  };
+  allocate.Clusters = [&](int64_t clusters, plod::OctreeArrays& o) {
+    o.ClusterNode = static_cast<int32_t*>(storage.Block(4 * clusters));
+    o.ClusterParent = static_cast<int32_t*>(storage.Block(4 * clusters));
+    o.ClusterVertex = static_cast<float*>(storage.Block(12 * clusters));
+    o.ClusterNormal = static_cast<float*>(storage.Block(12 * clusters));
+    arrays.ClusterNode = o.ClusterNode;
+    arrays.ClusterParent = o.ClusterParent;
+    arrays.ClusterVertex = o.ClusterVertex;
+    arrays.ClusterNormal = o.ClusterNormal;
+  };
+  plod::BuildInput in;
+  in.NumberOfPoints = static_cast<int64_t>(points.size() / 3);
+  in.Points = points.data();
+  in.NumberOfTriangles = static_cast<int64_t>(triangles.size() / 3);
+  in.Triangles = triangles.data();
+  plod::BuildParameters params;
+  params.FinestLevel = data[1] < 64 ? -1 : 1 + data[1] % 7;
+  const plod::BuildResult r = plod::BuildOctree(in, params, allocate);
+  if (!r.Ok)
+  {
+    return 0;
+  }
+  plod::OctreeFileHeader header;
+  for (int k = 0; k < 3; ++k)
+    header.Origin[k] = r.Origin[k];
+  header.RootEdge = r.RootEdge;
+  header.FinestLevel = r.FinestLevel;
+  header.Nodes = r.NumberOfNodes;
+  header.Points = r.NumberOfPoints;
+  header.Triangles = r.NumberOfTriangles;
+  header.Clusters = r.NumberOfClusters;
+  header.BoundaryEdges = r.NumberOfBoundaryEdges;
+  header.NonManifoldEdges = r.NumberOfNonManifoldEdges;
+  const std::string path = "/tmp/plod_fuzz_file_" + std::to_string(::getpid()) + ".plod";
+  std::string why;
+  const std::vector<plod::FileArray> written = FileArrays(arrays, r);
+  CHECK(plod::WriteOctreeFile(path, header, written, &why), why);
+
+  // the undamaged file reads back bit for bit
+  std::ifstream original(path, std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(original)), std::istreambuf_iterator<char>());
+  original.close();
+  if (size == 3)
+  {
+    plod::OctreeFile file;
+    CHECK(plod::OpenOctreeFile(path, true, true, file, &why), why);
+    for (size_t a = 0; a < written.size(); ++a)
+    {
+      const size_t n = size_t(written[a].Tuples) * written[a].Components *
+        plod::FileTypeSize(written[a].Type);
+      CHECK(n == 0 || std::memcmp(written[a].Data, file.Arrays[a].Data, n) == 0, written[a].Name);
+    }
+  }
+
+  // the damage
+  const uint8_t flags = data[2];
+  size_t first = bytes.size();
+  for (size_t i = 3; i + 5 <= size; i += 5)
+  {
+    uint32_t at;
+    std::memcpy(&at, data + i, 4);
+    const size_t pos = at % bytes.size();
+    first = std::min(first, pos);
+    bytes[pos] = data[i + 4] ? char(bytes[pos] ^ data[i + 4]) : char(0xff);
+    if (std::getenv("PLOD_FUZZ_VERBOSE"))
+    {
+      // which array (and value) the damaged byte belongs to
+      uint64_t offset = 0;
+      for (const plod::FileArray& f : written)
+      {
+        const uint64_t n = uint64_t(f.Tuples) * f.Components * plod::FileTypeSize(f.Type);
+        if (n == 0)
+          continue;
+        offset = (offset == 0) ? ((128 + 64 * written.size() + 4095) / 4096 * 4096) : offset;
+        if (pos >= offset && pos < offset + n)
+        {
+          std::fprintf(stderr, "edit at %zu: array %s value %llu (of %lld tuples x %d)\n", pos,
+            f.Name.c_str(), (unsigned long long)((pos - offset) / plod::FileTypeSize(f.Type)),
+            (long long)f.Tuples, f.Components);
+        }
+        offset = (offset + n + 4095) / 4096 * 4096;
+      }
+    }
+  }
+  if ((flags & 8) && first < bytes.size())
+  {
+    bytes.resize(first);
+  }
+  if ((flags & 1) && bytes.size() >= 128)
+  {
+    // make the header agree with the damage, so that it reaches the arrays
+    const uint64_t total = bytes.size();
+    std::memcpy(&bytes[112], &total, 8);
+    uint32_t headerSize;
+    std::memcpy(&headerSize, &bytes[16], 4);
+    if (headerSize <= bytes.size())
+    {
+      uint64_t h = 14695981039346656037ull;
+      for (size_t i = 0; i < headerSize; ++i)
+      {
+        const unsigned char b = (i >= 120 && i < 124) ? 0 : static_cast<unsigned char>(bytes[i]);
+        h = (h ^ b) * 1099511628211ull;
+      }
+      const uint32_t sum = static_cast<uint32_t>(h ^ (h >> 32));
+      std::memcpy(&bytes[120], &sum, 4);
+    }
+  }
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  plod::OctreeFile file;
+  const bool opened = plod::OpenOctreeFile(path, flags & 2, !(flags & 4), file, &why);
+  std::remove(path.c_str());
+  if (!opened)
+  {
+    CHECK(!why.empty(), "a refused file without a reason");
+    return 0;
+  }
+  // every array lies in the memory: read all of it
+  unsigned sum = 0;
+  for (const plod::FileArray& f : file.Arrays)
+  {
+    const size_t n = size_t(f.Tuples) * f.Components * plod::FileTypeSize(f.Type);
+    const unsigned char* p = static_cast<const unsigned char*>(f.Data);
+    for (size_t i = 0; i < n; ++i)
+      sum += p[i];
+  }
+  (void)sum;
+  plod::OctreeView v;
+  if (file.Header.Nodes == 0 || !ViewOf(file, v) || !plod::ValidateOctree(v, &why))
+  {
+    return 0;
+  }
+  // the octree passed validation: the filters' kernels must be safe on it
+  std::vector<uint8_t> state(static_cast<size_t>(v.NumberOfNodes));
+  for (int level = -1; level <= std::min(v.FinestLevel, 4); ++level)
+  {
+    plod::UniformCut(v, level, state.data());
+    CHECK(plod::ValidateCut(v, state.data(), &why), why);
+    CheckPatches(v, state.data(), "uniform cut " + std::to_string(level));
+  }
+  plod::Selector selector;
+  selector.SetOctree(v);
+  plod::SelectionInput sel;
+  sel.Eye[0] = v.RootEdge * 0.5;
+  sel.Eye[1] = v.RootEdge * 0.4;
+  sel.Eye[2] = v.RootEdge * 3.0;
+  sel.Lights.push_back(plod::SelectorLight());
+  if (plod::ValidateSelectionInput(sel, &why))
+  {
+    std::vector<uint8_t> reason(state.size()), cull(state.size());
+    std::fill(state.begin(), state.end(), 0);
+    plod::SelectionStats stats;
+    selector.Select(sel, state.data(), reason.data(), cull.data(), stats);
+    CHECK(plod::ValidateCut(v, state.data(), &why), "selector: " + why);
+    CheckPatches(v, state.data(), "selector");
+  }
+  return 0;
+}
