@@ -165,9 +165,17 @@ void vtkPerceptualLODRenderBinding::OnStart(vtkObject*, unsigned long, void* cli
 //------------------------------------------------------------------------------
 void vtkPerceptualLODRenderBinding::Update()
 {
-  vtkRenderer* ren = this->Renderer;
+  if (this->Enabled)
+  {
+    this->UpdateFrom(this->Renderer, this->Prop3D);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop)
+{
   vtkPerceptualLODSelector* sel = this->Selector;
-  if (!ren || !sel || !this->Enabled)
+  if (!ren || !sel)
   {
     return;
   }
@@ -176,9 +184,9 @@ void vtkPerceptualLODRenderBinding::Update()
 
   // ---- view, in world coordinates, with the prop's matrix as object -> world -------------------
   double objectToWorld[16];
-  if (this->Prop3D)
+  if (prop)
   {
-    vtkMatrix4x4::DeepCopy(objectToWorld, this->Prop3D->GetMatrix());
+    vtkMatrix4x4::DeepCopy(objectToWorld, prop->GetMatrix());
   }
   else
   {
@@ -260,7 +268,7 @@ void vtkPerceptualLODRenderBinding::Update()
   }
 
   // ---- material --------------------------------------------------------------------------------
-  if (vtkActor* actor = vtkActor::SafeDownCast(this->Prop3D))
+  if (vtkActor* actor = vtkActor::SafeDownCast(prop))
   {
     vtkProperty* p = actor->GetProperty();
     sel->SetDiffuseReflectance(p->GetDiffuse() * Luminance(p->GetDiffuseColor()));

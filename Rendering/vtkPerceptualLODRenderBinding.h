@@ -83,6 +83,15 @@ public:
   /// Pushes the renderer's current state to the selector now (what StartEvent does).
   void Update();
 
+  /**
+   * Pushes the state of `renderer` with `prop`'s matrix and material to the selector now,
+   * without holding either (whatever SetRenderer, SetProp3D and Enabled say). For a prop that
+   * feeds its own selector while it renders (vtkPerceptualLODActor), where holding the
+   * renderer or the prop would make a reference cycle. Motion is measured between successive
+   * pushes of this binding.
+   */
+  void UpdateFrom(vtkRenderer* renderer, vtkProp3D* prop);
+
   ///@{
   /// Figures: frames pushed, the last measured frame interval (s) and the time the last push
   /// took (s).

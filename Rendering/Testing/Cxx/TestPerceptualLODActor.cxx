@@ -1,0 +1,283 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// vtkPerceptualLODActor: ResetCamera() fits the whole model (mesh, cloud, octree, moved actor);
+// the image is the three-filter pipeline's with a binding, pixel for pixel; an octree input
+// skips the build; two renderers each get their own cut; a foreign mapper is refused.
+#include "plodTestUtilities.h"
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCommand.h"
+#include "vtkImageData.h"
+#include "vtkMultiscaleOctree.h"
+#include "vtkMultiscaleOctreeBuilder.h"
+#include "vtkMultiscaleOctreeReader.h"
+#include "vtkMultiscaleOctreeWriter.h"
+#include "vtkMultiscalePatchGenerator.h"
+#include "vtkNew.h"
+#include "vtkPerceptualLODActor.h"
+#include "vtkPerceptualLODRenderBinding.h"
+#include "vtkPerceptualLODSelector.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace
+{
+struct Scene
+{
+  vtkNew<vtkRenderWindow> Window;
+  vtkNew<vtkRenderer> Renderer;
+  explicit Scene(int w = 320, int h = 240)
+  {
+    this->Window->SetOffScreenRendering(1);
+    this->Window->SetSize(w, h);
+    this->Window->AddRenderer(this->Renderer);
+    this->Renderer->SetBackground(0, 0, 0);
+  }
+  std::vector<unsigned char> Image()
+  {
+    this->Window->Render();
+    vtkNew<vtkWindowToImageFilter> grab;
+    grab->SetInput(this->Window);
+    grab->ReadFrontBufferOff();
+    grab->Update();
+    auto* px = vtkUnsignedCharArray::SafeDownCast(grab->GetOutput()->GetPointData()->GetScalars());
+    return std::vector<unsigned char>(px->GetPointer(0), px->GetPointer(0) + px->GetNumberOfValues());
+  }
+};
+
+/// The same camera to float precision (the octree keeps its points in single precision).
+void ExpectSameCamera(vtkCamera* a, vtkCamera* b, double scale)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    EXPECT_NEAR(a->GetPosition()[k], b->GetPosition()[k], 1e-6 * scale);
+    EXPECT_NEAR(a->GetFocalPoint()[k], b->GetFocalPoint()[k], 1e-6 * scale);
+  }
+}
+
+double Size(const double b[6])
+{
+  return std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+    (b[5] - b[4]) * (b[5] - b[4]));
+}
+
+int Lit(const std::vector<unsigned char>& image)
+{
+  int n = 0;
+  for (size_t i = 0; i + 2 < image.size(); i += 3)
+    n += (image[i] | image[i + 1] | image[i + 2]) ? 1 : 0;
+  return n;
+}
+}
+
+TEST(PerceptualLODActor, ResetCameraFitsTheWholeModel)
+{
+  auto blob = plodtest::MakeBlob(3, 60, 0.3);
+  double model[6];
+  blob->GetBounds(model);
+  for (int moved = 0; moved < 2; ++moved)
+  {
+    Scene withActor, reference;
+    vtkNew<vtkPerceptualLODActor> actor;
+    actor->SetInputData(blob);
+    if (moved)
+    {
+      actor->SetOrientation(20, 35, 0);
+      actor->SetPosition(3, -1, 2);
+    }
+    withActor.Renderer->AddActor(actor);
+    // close up, the cut draws part of the model: the actor's bounds must still be the model's
+    withActor.Renderer->ResetCamera();
+    withActor.Window->Render();
+    withActor.Renderer->GetActiveCamera()->Dolly(3.0);
+    withActor.Window->Render();
+    withActor.Renderer->ResetCamera();
+    // the reference: the model's bounds through the same matrix, by a plain actor
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(blob);
+    vtkNew<vtkActor> plain;
+    plain->SetMapper(mapper);
+    plain->SetUserMatrix(actor->GetMatrix());
+    reference.Renderer->AddActor(plain);
+    reference.Renderer->ResetCamera(plain->GetBounds());
+    ExpectSameCamera(withActor.Renderer->GetActiveCamera(), reference.Renderer->GetActiveCamera(),
+      Size(model));
+    double b[6];
+    actor->GetBounds(b);
+    for (int k = 0; k < 6; ++k)
+      EXPECT_NEAR(b[k], plain->GetBounds()[k], 1e-6 * Size(model)) << moved << " " << k;
+  }
+}
+
+TEST(PerceptualLODActor, ImageIsTheThreeFilterPipelines)
+{
+  auto blob = plodtest::MakeBlob(4, 80, 0.3);
+  // the actor
+  Scene a;
+  vtkNew<vtkPerceptualLODActor> actor;
+  actor->SetInputData(blob);
+  actor->GetProperty()->SetSpecular(0.3);
+  actor->GetProperty()->SetSpecularPower(20);
+  a.Renderer->AddActor(actor);
+  a.Renderer->ResetCamera();
+  a.Renderer->GetActiveCamera()->Azimuth(30);
+  a.Renderer->GetActiveCamera()->Dolly(1.4);
+  a.Renderer->ResetCameraClippingRange();
+  // builder -> selector -> patches -> mapper, with a binding
+  Scene b;
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(blob);
+  vtkNew<vtkPerceptualLODSelector> selector;
+  selector->SetInputConnection(builder->GetOutputPort());
+  vtkNew<vtkMultiscalePatchGenerator> patches;
+  patches->SetInputConnection(selector->GetOutputPort());
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(patches->GetOutputPort());
+  vtkNew<vtkActor> plain;
+  plain->SetMapper(mapper);
+  plain->GetProperty()->SetSpecular(0.3);
+  plain->GetProperty()->SetSpecularPower(20);
+  b.Renderer->AddActor(plain);
+  b.Renderer->SetActiveCamera(a.Renderer->GetActiveCamera());
+  vtkNew<vtkPerceptualLODRenderBinding> binding;
+  binding->SetRenderer(b.Renderer);
+  binding->SetSelector(selector);
+  binding->SetProp3D(plain);
+  const auto imageA = a.Image();
+  const auto imageB = b.Image();
+  ASSERT_EQ(imageA.size(), imageB.size());
+  EXPECT_GT(Lit(imageA), 2000);
+  EXPECT_EQ(actor->GetPatchGenerator()->GetNumberOfTriangles(), patches->GetNumberOfTriangles());
+  EXPECT_LT(actor->GetPatchGenerator()->GetNumberOfTriangles(), blob->GetNumberOfPolys());
+  int differ = 0;
+  for (size_t i = 0; i < imageA.size(); ++i)
+    differ += imageA[i] != imageB[i] ? 1 : 0;
+  EXPECT_EQ(differ, 0) << "bytes that differ";
+}
+
+TEST(PerceptualLODActor, OctreeInputSkipsTheBuildAndDrawsTheSame)
+{
+  auto blob = plodtest::MakeBlob(5, 50, 0.3);
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(blob);
+  const std::string path = "/tmp/plod_actor_" + std::to_string(::getpid()) + ".plod";
+  vtkNew<vtkMultiscaleOctreeWriter> writer;
+  writer->SetInputConnection(builder->GetOutputPort());
+  writer->SetFileName(path.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+  vtkNew<vtkMultiscaleOctreeReader> reader;
+  reader->SetFileName(path.c_str());
+
+  Scene fromFile, fromMesh;
+  vtkNew<vtkPerceptualLODActor> a1, a2;
+  a1->SetInputConnection(reader->GetOutputPort());
+  a2->SetInputData(blob);
+  EXPECT_TRUE(a1->GetInputIsOctree());
+  EXPECT_FALSE(a2->GetInputIsOctree());
+  fromFile.Renderer->AddActor(a1);
+  fromMesh.Renderer->AddActor(a2);
+  fromFile.Renderer->ResetCamera();
+  fromMesh.Renderer->ResetCamera();
+  const auto i1 = fromFile.Image();
+  const auto i2 = fromMesh.Image();
+  EXPECT_EQ(a1->GetBuilder()->GetOutput()->GetNumberOfNodes(), 0) << "nothing built";
+  EXPECT_EQ(a1->GetPatchGenerator()->GetNumberOfTriangles(),
+    a2->GetPatchGenerator()->GetNumberOfTriangles());
+  EXPECT_EQ(i1, i2);
+  std::remove(path.c_str());
+}
+
+TEST(PerceptualLODActor, TwoRenderersEachGetTheirOwnCut)
+{
+  auto blob = plodtest::MakeBlob(6, 80, 0.3);
+  vtkNew<vtkPerceptualLODActor> actor;
+  actor->SetInputData(blob);
+  // alone: near and far
+  std::vector<vtkIdType> alone;
+  std::vector<std::vector<unsigned char>> aloneImages;
+  for (double dolly : { 2.5, 0.3 })
+  {
+    Scene s(160, 120);
+    s.Renderer->AddActor(actor);
+    s.Renderer->ResetCamera();
+    s.Renderer->GetActiveCamera()->Dolly(dolly);
+    s.Renderer->ResetCameraClippingRange();
+    aloneImages.push_back(s.Image());
+    alone.push_back(actor->GetPatchGenerator()->GetNumberOfTriangles());
+    s.Renderer->RemoveActor(actor);
+  }
+  EXPECT_GT(alone[0], alone[1]) << "near draws more than far";
+  // together, side by side in one window
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(320, 120);
+  vtkNew<vtkRenderer> left, right;
+  left->SetViewport(0, 0, 0.5, 1);
+  right->SetViewport(0.5, 0, 1, 1);
+  for (vtkRenderer* r : { left.Get(), right.Get() })
+  {
+    window->AddRenderer(r);
+    r->AddActor(actor);
+    r->ResetCamera();
+  }
+  left->GetActiveCamera()->Dolly(2.5);
+  right->GetActiveCamera()->Dolly(0.3);
+  left->ResetCameraClippingRange();
+  right->ResetCameraClippingRange();
+  window->Render();
+  window->Render();
+  EXPECT_EQ(actor->GetPatchGenerator()->GetNumberOfTriangles(), alone[1]) << "the last one drawn";
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  auto* px = vtkUnsignedCharArray::SafeDownCast(grab->GetOutput()->GetPointData()->GetScalars());
+  // each half is the image its camera gave alone
+  for (int half = 0; half < 2; ++half)
+  {
+    int differ = 0;
+    for (int y = 0; y < 120; ++y)
+      for (int x = 0; x < 160; ++x)
+        for (int c = 0; c < 3; ++c)
+          differ += px->GetValue(3 * (y * 320 + x + 160 * half) + c) !=
+              aloneImages[half][3 * (y * 160 + x) + c]
+            ? 1
+            : 0;
+    EXPECT_EQ(differ, 0) << "half " << half;
+  }
+}
+
+TEST(PerceptualLODActor, ForeignMapperIsRefusedAndEmptyInputDrawsNothing)
+{
+  vtkNew<vtkPerceptualLODActor> actor;
+  vtkNew<plodtest::ErrorRecorder> messages;
+  actor->AddObserver(vtkCommand::WarningEvent, messages);
+  vtkMapper* own = actor->GetMapper();
+  vtkNew<vtkPolyDataMapper> other;
+  actor->SetMapper(other);
+  EXPECT_EQ(actor->GetMapper(), own);
+  ASSERT_FALSE(messages->Warnings.empty());
+  EXPECT_NE(messages->Warnings[0].find("SetMapper is ignored"), std::string::npos);
+  Scene s;
+  s.Renderer->AddActor(actor); // no input
+  s.Renderer->ResetCamera();
+  EXPECT_EQ(Lit(s.Image()), 0);
+  double b[6];
+  actor->GetBounds(b);
+  EXPECT_FALSE(b[0] <= b[1]) << "uninitialized bounds";
+}

@@ -1,0 +1,262 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkPerceptualLODActor.h"
+
+#include "vtkAlgorithmOutput.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkMultiscaleOctree.h"
+#include "vtkMultiscaleOctreeBuilder.h"
+#include "vtkMultiscalePatchGenerator.h"
+#include "vtkObjectFactory.h"
+#include "vtkPerceptualLODRenderBinding.h"
+#include "vtkPerceptualLODSelector.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkRenderer.h"
+#include "vtkTrivialProducer.h"
+
+#include <algorithm>
+
+vtkStandardNewMacro(vtkPerceptualLODActor);
+
+//------------------------------------------------------------------------------
+vtkPerceptualLODActor::vtkPerceptualLODActor()
+{
+  this->Builder = vtkMultiscaleOctreeBuilder::New();
+  this->Selector = vtkPerceptualLODSelector::New();
+  this->Patches = vtkMultiscalePatchGenerator::New();
+  this->LODMapper = vtkPolyDataMapper::New();
+  this->Selector->SetInputConnection(this->Builder->GetOutputPort());
+  this->Patches->SetInputConnection(this->Selector->GetOutputPort());
+  this->LODMapper->SetInputConnection(this->Patches->GetOutputPort());
+  this->Superclass::SetMapper(this->LODMapper);
+  this->Device = vtkActor::New();
+  this->DeviceMatrix = vtkMatrix4x4::New();
+  vtkMath::UninitializeBounds(this->ModelBounds);
+}
+
+//------------------------------------------------------------------------------
+vtkPerceptualLODActor::~vtkPerceptualLODActor()
+{
+  for (auto& entry : this->Bindings)
+  {
+    entry.second->Delete();
+  }
+  this->Superclass::SetMapper(nullptr);
+  this->Device->Delete();
+  this->DeviceMatrix->Delete();
+  this->LODMapper->Delete();
+  this->Patches->Delete();
+  this->Selector->Delete();
+  this->Builder->Delete();
+  if (this->Producer)
+  {
+    this->Producer->Delete();
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkMultiscaleOctreeBuilder* vtkPerceptualLODActor::GetBuilder()
+{
+  return this->Builder;
+}
+
+vtkPerceptualLODSelector* vtkPerceptualLODActor::GetSelector()
+{
+  return this->Selector;
+}
+
+vtkMultiscalePatchGenerator* vtkPerceptualLODActor::GetPatchGenerator()
+{
+  return this->Patches;
+}
+
+bool vtkPerceptualLODActor::GetInputIsOctree()
+{
+  return this->InputIsOctree;
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::SetMapper(vtkMapper* mapper)
+{
+  if (mapper != this->LODMapper)
+  {
+    vtkWarningMacro("SetMapper is ignored: vtkPerceptualLODActor draws through its own mapper "
+                    "(set its input with SetInputConnection or SetInputData).");
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::SetInputData(vtkDataObject* input)
+{
+  if (!input)
+  {
+    this->Connect(nullptr);
+    return;
+  }
+  if (!this->Producer)
+  {
+    this->Producer = vtkTrivialProducer::New();
+  }
+  this->Producer->SetOutput(input);
+  this->Connect(this->Producer->GetOutputPort());
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::SetInputConnection(vtkAlgorithmOutput* input)
+{
+  this->Connect(input);
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::Connect(vtkAlgorithmOutput* input)
+{
+  bool octree = false;
+  if (input && input->GetProducer())
+  {
+    vtkAlgorithm* producer = input->GetProducer();
+    producer->UpdateDataObject();
+    octree = vtkMultiscaleOctree::SafeDownCast(producer->GetOutputDataObject(input->GetIndex())) !=
+      nullptr;
+  }
+  this->InputIsOctree = octree;
+  if (octree)
+  {
+    this->Builder->SetInputConnection(nullptr);
+    this->Selector->SetInputConnection(input);
+  }
+  else
+  {
+    this->Builder->SetInputConnection(input);
+    this->Selector->SetInputConnection(this->Builder->GetOutputPort());
+  }
+  this->ModelBoundsTime = 0;
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+double* vtkPerceptualLODActor::GetBounds()
+{
+  vtkMath::UninitializeBounds(this->Bounds);
+  vtkAlgorithmOutput* source = this->Selector->GetInputConnection(0, 0);
+  if (!source || !source->GetProducer())
+  {
+    return this->Bounds;
+  }
+  source->GetProducer()->Update(source->GetIndex());
+  vtkMultiscaleOctree* octree = vtkMultiscaleOctree::SafeDownCast(
+    source->GetProducer()->GetOutputDataObject(source->GetIndex()));
+  if (!octree || octree->GetNumberOfNodes() == 0)
+  {
+    return this->Bounds;
+  }
+  // the surface's bounds, once per octree modification
+  if (octree->GetMTime() > this->ModelBoundsTime)
+  {
+    vtkDataArray* points = octree->GetSurfaceData()->GetArray(vtkMultiscaleOctree::PointsArrayName());
+    const double* origin = octree->GetOrigin();
+    if (points && points->GetNumberOfTuples() > 0 && points->GetNumberOfComponents() == 3)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        double range[2];
+        points->GetRange(range, a);
+        this->ModelBounds[2 * a] = origin[a] + range[0];
+        this->ModelBounds[2 * a + 1] = origin[a] + range[1];
+      }
+    }
+    else
+    {
+      // no surface points (cannot happen for a consistent non-empty octree): the root cube
+      for (int a = 0; a < 3; ++a)
+      {
+        this->ModelBounds[2 * a] = origin[a];
+        this->ModelBounds[2 * a + 1] = origin[a] + octree->GetRootEdge();
+      }
+    }
+    this->ModelBoundsTime = octree->GetMTime();
+  }
+  // through the actor's matrix: the box of the eight transformed corners
+  vtkMatrix4x4* m = this->GetMatrix();
+  double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+  double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  for (int k = 0; k < 8; ++k)
+  {
+    const double p[4] = { this->ModelBounds[(k & 1) ? 1 : 0], this->ModelBounds[(k & 2) ? 3 : 2],
+      this->ModelBounds[(k & 4) ? 5 : 4], 1.0 };
+    double q[4];
+    m->MultiplyPoint(p, q);
+    for (int a = 0; a < 3; ++a)
+    {
+      const double x = q[3] != 0 ? q[a] / q[3] : q[a];
+      lo[a] = std::min(lo[a], x);
+      hi[a] = std::max(hi[a], x);
+    }
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    this->Bounds[2 * a] = lo[a];
+    this->Bounds[2 * a + 1] = hi[a];
+  }
+  return this->Bounds;
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::Feed(vtkViewport* viewport)
+{
+  vtkRenderer* renderer = vtkRenderer::SafeDownCast(viewport);
+  if (!renderer)
+  {
+    return;
+  }
+  vtkPerceptualLODRenderBinding*& binding = this->Bindings[renderer];
+  if (!binding)
+  {
+    binding = vtkPerceptualLODRenderBinding::New();
+    binding->EnabledOff(); // no observer: the actor pushes while it renders
+    binding->SetSelector(this->Selector);
+  }
+  binding->UpdateFrom(renderer, this);
+}
+
+//------------------------------------------------------------------------------
+int vtkPerceptualLODActor::RenderOpaqueGeometry(vtkViewport* viewport)
+{
+  this->Feed(viewport);
+  return this->Superclass::RenderOpaqueGeometry(viewport);
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::Render(vtkRenderer* renderer, vtkMapper* mapper)
+{
+  this->Device->SetProperty(this->GetProperty());
+  if (this->BackfaceProperty)
+  {
+    this->Device->SetBackfaceProperty(this->BackfaceProperty);
+  }
+  this->Device->SetTexture(this->GetTexture());
+  this->GetMatrix(this->DeviceMatrix);
+  this->Device->SetUserMatrix(this->DeviceMatrix);
+  this->Device->SetForceOpaque(this->GetForceOpaque());
+  this->Device->SetForceTranslucent(this->GetForceTranslucent());
+  this->Device->Render(renderer, mapper);
+  this->EstimatedRenderTime = mapper->GetTimeToDraw();
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Device->ReleaseGraphicsResources(window);
+  this->Superclass::ReleaseGraphicsResources(window);
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "InputIsOctree: " << this->InputIsOctree << "\n";
+  os << indent << "Renderers fed: " << this->Bindings.size() << "\n";
+  os << indent << "Selector:\n";
+  this->Selector->PrintSelf(os, indent.GetNextIndent());
+}

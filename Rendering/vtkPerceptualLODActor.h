@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class   vtkPerceptualLODActor
+ * @brief   one actor that draws a mesh, a point cloud or an octree with the perceptual LOD
+ *
+ * The drop-in form of the whole pipeline, as vtkLODActor or vtkQuadricLODActor are used:
+ *
+ * @code{.py}
+ * actor = vtkPerceptualLODActor()
+ * actor.SetInputConnection(reader.GetOutputPort())   # a mesh, a point cloud or a .plod octree
+ * renderer.AddActor(actor)
+ * renderer.ResetCamera()                             # fits the whole model
+ * window.Render()
+ * @endcode
+ *
+ * Inside, it holds a vtkMultiscaleOctreeBuilder (skipped when the input already is a
+ * vtkMultiscaleOctree, from vtkMultiscaleOctreeReader say), a vtkPerceptualLODSelector, a
+ * vtkMultiscalePatchGenerator and a vtkPolyDataMapper. Every time it renders, it reads the
+ * renderer it is drawn in — the camera, the viewport, the lights, its own matrix and its
+ * property's material — and feeds the selector, as vtkPerceptualLODRenderBinding does for a
+ * hand-made pipeline (no binding object is needed). So it follows the view in every renderer
+ * it is added to: with several renderers, the cut is selected again for each one, and each
+ * renderer keeps its own motion history (for TMM).
+ *
+ * - **Bounds are the model's**, whatever the current cut draws, transformed by the actor's
+ *   matrix: `ResetCamera()` and the clipping range fit the whole model (the same camera as
+ *   `ResetCamera(model bounds)`, to the single precision in which the octree keeps points).
+ * - **The selector is reachable** (GetSelector()) for its modes and tolerances, the builder
+ *   (GetBuilder()) for the finest level, vertex rule and material arrays, the patch generator
+ *   (GetPatchGenerator()) for folds and back faces.
+ * - **Material:** the property's diffuse and specular coefficients and specular power drive
+ *   the brightness criterion when the octree has no material arrays.
+ * - **Picking** hits the surface as currently drawn: a picked position lies on the LOD
+ *   surface of the last render, and a cell id is an index into the mapper's current input
+ *   (GetMapper()->GetInput()), not into the original mesh. Pick with the same renderer's
+ *   view as the last render for a consistent answer.
+ * - SetMapper() is ignored with a warning: the actor's mapper is its own.
+ *
+ * @sa vtkPerceptualLODRenderBinding vtkPerceptualLODSelector vtkMultiscaleOctreeReader
+ */
+#ifndef vtkPerceptualLODActor_h
+#define vtkPerceptualLODActor_h
+
+#include "PerceptualLODRenderingModule.h" // for export macro
+#include "vtkActor.h"
+
+#include <map>    // for the per-renderer state
+#include <memory> // for the per-renderer state
+
+class vtkAlgorithmOutput;
+class vtkMatrix4x4;
+class vtkDataObject;
+class vtkMultiscaleOctreeBuilder;
+class vtkMultiscalePatchGenerator;
+class vtkPerceptualLODRenderBinding;
+class vtkPerceptualLODSelector;
+class vtkPolyDataMapper;
+class vtkTrivialProducer;
+
+class PERCEPTUALLODRENDERING_EXPORT vtkPerceptualLODActor : public vtkActor
+{
+public:
+  static vtkPerceptualLODActor* New();
+  vtkTypeMacro(vtkPerceptualLODActor, vtkActor);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The model: a pipeline output or a data object holding a mesh or point cloud (any
+   * vtkPointSet the builder takes), or a vtkMultiscaleOctree (then nothing is built).
+   */
+  void SetInputConnection(vtkAlgorithmOutput* input);
+  void SetInputData(vtkDataObject* input);
+  ///@}
+
+  ///@{
+  /// The inner pipeline, for its settings.
+  vtkMultiscaleOctreeBuilder* GetBuilder();
+  vtkPerceptualLODSelector* GetSelector();
+  vtkMultiscalePatchGenerator* GetPatchGenerator();
+  ///@}
+
+  /// True when the input is an octree (the builder is not used).
+  bool GetInputIsOctree();
+
+  /**
+   * The model's bounds (every point of the surface, not only the current cut) in world
+   * coordinates, through the actor's matrix. Empty input: uninitialized bounds.
+   */
+  double* GetBounds() override;
+  using vtkActor::GetBounds;
+
+  /// Feeds the selector from `viewport` (a vtkRenderer), then draws.
+  int RenderOpaqueGeometry(vtkViewport* viewport) override;
+
+  /// Ignored with a warning: the actor draws through its own mapper.
+  void SetMapper(vtkMapper* mapper) override;
+
+  /// Draws through a device actor of the rendering backend (vtkActor itself draws nothing),
+  /// with this actor's property, textures and matrix.
+  void Render(vtkRenderer* renderer, vtkMapper* mapper) override;
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+protected:
+  vtkPerceptualLODActor();
+  ~vtkPerceptualLODActor() override;
+
+  /// Connects builder or selector to `input`, by the input's data type.
+  void Connect(vtkAlgorithmOutput* input);
+  /// Feeds the selector for `renderer` (its own binding, made on first use).
+  void Feed(vtkViewport* viewport);
+
+  vtkTrivialProducer* Producer = nullptr;
+  vtkActor* Device = nullptr;        // the backend's actor (vtkOpenGLActor), as in vtkLODActor
+  vtkMatrix4x4* DeviceMatrix = nullptr;
+  vtkMultiscaleOctreeBuilder* Builder = nullptr;
+  vtkPerceptualLODSelector* Selector = nullptr;
+  vtkMultiscalePatchGenerator* Patches = nullptr;
+  vtkPolyDataMapper* LODMapper = nullptr;
+  bool InputIsOctree = false;
+  double ModelBounds[6];
+  vtkMTimeType ModelBoundsTime = 0;
+  /// One binding per renderer (by address): its motion history. Never holds the renderer.
+  std::map<const void*, vtkPerceptualLODRenderBinding*> Bindings;
+
+private:
+  vtkPerceptualLODActor(const vtkPerceptualLODActor&) = delete;
+  void operator=(const vtkPerceptualLODActor&) = delete;
+};
+
+#endif
