@@ -13,7 +13,8 @@ What it measures (METHOD §4):
    for SRCC, SCVC, PSEC, Distance, foveated SRCC, a static vtkQuadricDecimation done once at the
    same count, and vtkQuadricClustering re-run for the frame; three viewing distances;
 2. the speed/accuracy frontier: tolerance sweeps of SRCC, SCVC and PSEC, PSNR against
-   triangles and against frame time (select + patch + render);
+   triangles and against frame time (select + patch + render), beside vtkQuadricDecimation
+   done once at each SRCC count and the full-resolution frame;
 3. triangles against viewing distance (SRCC Fig. 19) and against speed (TMM Fig. 8);
 4. the moving-image protocol of TMM §5.3: movements T (translation), Z (zoom), R (rotation) at
    dt = 1/30, 1/60, 1/120 s. Frames run back to back: a frame shows the scene as it was when
@@ -28,6 +29,10 @@ What it measures (METHOD §4):
 
 Rendering is offscreen VTK (Mesa llvmpipe under Xvfb), grey material, one headlight; full
 resolution is smooth-shaded (vtkPolyDataNormals) like the LOD.
+The selector is fed as in a user's pipeline: vtkPerceptualLODRenderBinding reads the camera,
+the frustum, the viewport, the headlight and the actor's matrix and material (colour 0.8 grey,
+diffuse 0.9, specular 0.3, power 20: the brightness criterion sees diffuse 0.72 and specular
+0.24) from the renderer before each selection.
 """
 import argparse
 import csv
@@ -52,8 +57,8 @@ from vtkmodules.vtkRenderingLOD import vtkLODActor, vtkQuadricLODActor
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plod_metrics as metrics  # noqa: E402
 from perceptual_lod import (vtkMultiscaleOctreeBuilder, vtkMultiscaleOctreeCutter,  # noqa: E402
-                            vtkMultiscalePatchGenerator, vtkPerceptualLODSelector,
-                            vtkPLYFileCheck)
+                            vtkMultiscalePatchGenerator, vtkPerceptualLODRenderBinding,
+                            vtkPerceptualLODSelector, vtkPLYFileCheck)
 
 METHODS = {
     # name: (error model, motion model, foveation)
@@ -179,10 +184,12 @@ class Scene:
         self.selector.SetInputConnection(self.builder.GetOutputPort())
         if cloud:
             self.selector.HideBackFacesOff()
-        self.selector.SetViewportSize(*size)
-        self.selector.SetDiffuseReflectance(0.9)
-        self.selector.SetSpecularReflectance(0.3)
-        self.selector.SetSpecularPower(20)
+        # view, lights and material reach the selector through the render binding (set_view),
+        # as in a user's pipeline: the actor's property (colour 0.8 grey, diffuse 0.9, specular
+        # 0.3, power 20) gives the brightness criterion diffuse 0.72 and specular 0.24
+        self.binding = vtkPerceptualLODRenderBinding()
+        self.binding.EnabledOff()  # pushed in set_view, before the LOD is selected
+        self.binding.SetSelector(self.selector)
         self.patches = vtkMultiscalePatchGenerator()
         self.patches.SetInputConnection(self.selector.GetOutputPort())
         if cloud:
@@ -237,19 +244,10 @@ class Scene:
         camera.SetViewUp(0, 1, 0)
         camera.SetViewAngle(self.view_angle)
         self.renderer.ResetCameraClippingRange(self.bounds_moved(offset))
-        planes = [0.0] * 24
-        camera.GetFrustumPlanes(self.size[0] / self.size[1], planes)
-        s = self.selector
-        s.CoordinatesAreWorldOn()
+        # camera, frustum, viewport, the headlight and the actor's material and matrix, as the
+        # binding reads them from the renderer for every frame of a user's pipeline
+        self.binding.UpdateFrom(self.renderer, self.actor)
         m = self.actor.GetMatrix()
-        s.SetObjectToWorldMatrix([m.GetElement(i // 4, i % 4) for i in range(16)])
-        s.SetEyePosition(camera.GetPosition())
-        s.SetViewAngle(self.view_angle)
-        s.SetFrustumPlanes(planes)
-        d = np.array(camera.GetPosition()) - np.array(camera.GetFocalPoint())
-        d /= np.linalg.norm(d)
-        s.SetNumberOfLights(1)
-        s.SetLight(0, False, *d, 1.0, 1.0)
         view = camera.GetViewTransformMatrix()
         from vtkmodules.vtkCommonMath import vtkMatrix4x4
         ov = vtkMatrix4x4()
@@ -402,8 +400,20 @@ def frontier(scene, distance, scales, writer):
                        psnr=metrics.psnr(reference, img), ssim=metrics.ssim(reference, img))
             writer.writerow(row)
             rows.append(row)
-    rows.append(dict(model=scene.name, method='full', scale=0, triangles=scene.full.GetNumberOfPolys(),
-                     frame_ms=full_ms, select_ms=0, patch_ms=0, render_ms=full_ms, psnr=float('inf'), ssim=1.0))
+    # what a VTK user would do instead: vtkQuadricDecimation once, at each SRCC count
+    for tris in sorted({r['triangles'] for r in rows if r['method'] == 'SRCC' and r['triangles'] > 0}):
+        data, _ = decimated(scene, tris)
+        img, rms = scene.render(data)
+        row = dict(model=scene.name, method='vtkQuadricDecimation (static)', scale=0,
+                   triangles=data.GetNumberOfPolys(), frame_ms=rms, select_ms=0, patch_ms=0,
+                   render_ms=rms, psnr=metrics.psnr(reference, img), ssim=metrics.ssim(reference, img))
+        writer.writerow(row)
+        rows.append(row)
+    row = dict(model=scene.name, method='full', scale=0, triangles=scene.full.GetNumberOfPolys(),
+               frame_ms=full_ms, select_ms=0, patch_ms=0, render_ms=full_ms, psnr=float('inf'),
+               ssim=1.0)
+    writer.writerow(row)
+    rows.append(row)
     return rows
 
 
@@ -590,10 +600,17 @@ def plots(out, frontier_rows, distance_rows, speed_rows, zhu_rows):
     files = []
     for model in sorted({r['model'] for r in frontier_rows}):
         fig, axes = plt.subplots(1, 2, figsize=(11, 4))
-        for name in ('SRCC', 'SCVC', 'PSEC'):
-            rs = [r for r in frontier_rows if r['model'] == model and r['method'] == name]
-            axes[0].plot([r['triangles'] for r in rs], [r['psnr'] for r in rs], 'o-', label=name)
-            axes[1].plot([r['frame_ms'] for r in rs], [r['psnr'] for r in rs], 'o-', label=name)
+        for name in ('SRCC', 'SCVC', 'PSEC', 'vtkQuadricDecimation (static)'):
+            rs = sorted((r for r in frontier_rows if r['model'] == model and r['method'] == name),
+                        key=lambda r: r['triangles'])
+            style = 's--' if name.startswith('vtkQuadric') else 'o-'
+            axes[0].plot([r['triangles'] for r in rs], [r['psnr'] for r in rs], style, label=name)
+            axes[1].plot([r['frame_ms'] for r in rs], [r['psnr'] for r in rs], style, label=name)
+        # full resolution: its triangles and its frame time (its PSNR is infinite)
+        full = [r for r in frontier_rows if r['model'] == model and r['method'] == 'full']
+        if full:
+            axes[0].axvline(full[0]['triangles'], color='k', ls=':', label='full resolution')
+            axes[1].axvline(full[0]['frame_ms'], color='k', ls=':', label='full resolution')
         axes[0].set_xscale('log')
         axes[0].set_xlabel('triangles')
         axes[1].set_xlabel('frame time (select + patch + render), ms')
