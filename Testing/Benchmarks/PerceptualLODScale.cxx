@@ -3,7 +3,7 @@
 // that each size's peak memory is its own.
 //
 //   xvfb-run -a build/bin/PerceptualLODScale --triangles 4000000 [--frames 20] [--no-render]
-//       [--full-render-limit 16000000] [--level L] [--csv out.csv]
+//       [--full-render-limit 16000000] [--level L] [--csv out.csv] [--octree-file f.plod]
 //
 // It generates a displaced UV sphere (plodtest::MakeBlob, float points, 64-bit cells: what a
 // VTK reader gives), builds its octree, and reports:
@@ -13,6 +13,8 @@
 // - per frame, along a 20-frame orbit at mid distance (640x480, Mesa llvmpipe under Xvfb):
 //   select, patch and render milliseconds (medians) with the binding feeding the selector, and
 //   the full-resolution render of the same view (median of 3 frames), up to a size limit.
+// With --octree-file it also saves the octree there, opens it with vtkMultiscaleOctreeReader
+// (mapped) and times the open and the first filter's consistency check (then removes it).
 // scripts/run-scale.sh runs the sizes and writes docs/results/scale.csv.
 #include "plodTestUtilities.h"
 
@@ -20,6 +22,8 @@
 #include "vtkCamera.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
+#include "vtkMultiscaleOctreeReader.h"
+#include "vtkMultiscaleOctreeWriter.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
 #include "vtkPerceptualLODRenderBinding.h"
@@ -77,7 +81,7 @@ int main(int argc, char* argv[])
   int frames = 20;
   bool render = true;
   double fullLimit = 16e6;
-  std::string csv;
+  std::string csv, octreeFile;
   int level = -1;
   for (int i = 1; i < argc; ++i)
   {
@@ -94,11 +98,13 @@ int main(int argc, char* argv[])
       level = std::atoi(argv[++i]);
     else if (a == "--csv" && i + 1 < argc)
       csv = argv[++i];
+    else if (a == "--octree-file" && i + 1 < argc)
+      octreeFile = argv[++i];
     else
     {
       std::fprintf(stderr,
         "usage: %s --triangles N [--frames F] [--no-render] [--full-render-limit N] "
-        "[--level L] [--csv file]\n",
+        "[--level L] [--csv file] [--octree-file path.plod]\n",
         argv[0]);
       return 2;
     }
@@ -142,6 +148,30 @@ int main(int argc, char* argv[])
   {
     std::fprintf(stderr, "the build failed\n");
     return 1;
+  }
+
+  if (!octreeFile.empty())
+  {
+    // save the octree, then open it (mapped) and run the check the first filter runs
+    vtkNew<vtkMultiscaleOctreeWriter> writer;
+    writer->SetInputData(octree);
+    writer->SetFileName(octreeFile.c_str());
+    timer->StartTimer();
+    const bool written = writer->Write() == 1;
+    timer->StopTimer();
+    const double writeSeconds = timer->GetElapsedTime();
+    vtkNew<vtkMultiscaleOctreeReader> reader;
+    reader->SetFileName(octreeFile.c_str());
+    reader->Update();
+    timer->StartTimer();
+    const bool consistent = reader->GetOutput()->IsConsistent();
+    timer->StopTimer();
+    std::printf("octree file: %s, written in %.2f s; opened in %.3f ms (%s, %lld nodes); "
+                "first filter's check %.0f ms (%s)\n",
+      written ? "ok" : writer->GetErrorMessage(), writeSeconds, reader->GetReadTime() * 1e3,
+      reader->GetMapped() ? "mapped" : "read", static_cast<long long>(reader->GetOutput()->GetNumberOfNodes()),
+      timer->GetElapsedTime() * 1e3, consistent ? "consistent" : "INCONSISTENT");
+    std::remove(octreeFile.c_str());
   }
 
   double selectMs = 0, patchMs = 0, renderMs = 0, fullMs = -1, lodTriangles = 0;
