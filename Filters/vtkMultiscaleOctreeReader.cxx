@@ -123,24 +123,11 @@ int vtkMultiscaleOctreeReader::RequestData(
   {
     // every array of the schema, with its type and size
     std::vector<const plod::FileArray*> found;
-    for (const plod::FileArraySpec& spec : plod::OctreeFileSchema())
+    if (!plod::MatchSchema(file, found, &why))
     {
-      const plod::FileArray* match = nullptr;
-      for (const plod::FileArray& f : file.Arrays)
-      {
-        if (f.Group == spec.Group && f.Name == spec.Name)
-        {
-          match = &f;
-        }
-      }
-      if (!match || match->Type != spec.Type || match->Components != spec.Components)
-      {
-        this->ErrorMessage = std::string(this->FileName) + ": the array '" + spec.Name +
-          (match ? "' has the wrong type or components" : "' is missing");
-        vtkErrorMacro(<< "Cannot read the octree: " << this->ErrorMessage << ". Empty octree.");
-        return 1;
-      }
-      found.push_back(match);
+      this->ErrorMessage = std::string(this->FileName) + ": " + why;
+      vtkErrorMacro(<< "Cannot read the octree: " << this->ErrorMessage << ". Empty octree.");
+      return 1;
     }
     size_t k = 0;
     for (const plod::FileArraySpec& spec : plod::OctreeFileSchema())

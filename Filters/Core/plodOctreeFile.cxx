@@ -149,6 +149,30 @@ const std::vector<FileArraySpec>& OctreeFileSchema()
   return schema;
 }
 
+bool MatchSchema(const OctreeFile& file, std::vector<const FileArray*>& arrays, std::string* why)
+{
+  arrays.clear();
+  for (const FileArraySpec& spec : OctreeFileSchema())
+  {
+    const FileArray* match = nullptr;
+    for (const FileArray& f : file.Arrays)
+    {
+      if (f.Group == spec.Group && f.Name == spec.Name)
+      {
+        match = &f;
+      }
+    }
+    if (!match || match->Type != spec.Type || match->Components != spec.Components)
+    {
+      arrays.clear();
+      return Fail(why, std::string("the array '") + spec.Name +
+          (match ? "' has the wrong type or components" : "' is missing"));
+    }
+    arrays.push_back(match);
+  }
+  return true;
+}
+
 int FileTypeSize(FileArrayType type)
 {
   switch (type)

@@ -127,6 +127,12 @@ struct OctreeFile
 bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out,
   std::string* error);
 
+/**
+ * The arrays of `file` in OctreeFileSchema() order, each found by group and name with the
+ * schema's type and components; false (and `why`: which array is missing or wrong) otherwise.
+ */
+bool MatchSchema(const OctreeFile& file, std::vector<const FileArray*>& arrays, std::string* why);
+
 /// 64-bit FNV-1a over 8-byte little-endian words, then the tail bytes.
 uint64_t FileChecksum(const void* data, size_t bytes);
 

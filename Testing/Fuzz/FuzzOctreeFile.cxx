@@ -115,18 +115,14 @@ bool ViewOf(const plod::OctreeFile& file, plod::OctreeView& v)
     (const void**)&v.ClusterVertex, (const void**)&v.ClusterNormal, (const void**)&v.Points,
     (const void**)&v.Normals, (const void**)&v.PointLeaf, (const void**)&v.PointCluster,
     (const void**)&v.InputPointId, (const void**)&v.Triangles };
-  size_t k = 0;
-  for (const plod::FileArraySpec& spec : plod::OctreeFileSchema())
+  std::vector<const plod::FileArray*> found;
+  if (!plod::MatchSchema(file, found, nullptr))
   {
-    const plod::FileArray* match = nullptr;
-    for (const plod::FileArray& f : file.Arrays)
-      if (f.Group == spec.Group && f.Name == spec.Name)
-        match = &f;
-    if (!match || match->Type != spec.Type || match->Components != spec.Components)
-    {
-      return false;
-    }
-    *slot[k++] = match->Data;
+    return false;
+  }
+  for (size_t k = 0; k < found.size(); ++k)
+  {
+    *slot[k] = found[k]->Data;
   }
   return true;
 }
