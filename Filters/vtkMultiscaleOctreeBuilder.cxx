@@ -66,21 +66,6 @@ void CollectTriangles(vtkPolyData* pd, std::vector<int64_t>& tris, std::vector<v
   }
 }
 
-/// First component of a named array as floats, or empty when absent.
-bool FetchValues(vtkDataArray* a, std::vector<float>& out)
-{
-  if (!a)
-  {
-    return false;
-  }
-  const vtkIdType n = a->GetNumberOfTuples();
-  out.resize(n);
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    out[i] = static_cast<float>(a->GetComponent(i, 0));
-  }
-  return true;
-}
 }
 
 //------------------------------------------------------------------------------
@@ -99,8 +84,8 @@ vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
   , NumberOfSkippedTriangles(0)
   , NumberOfInvalidTriangles(0)
   , NumberOfDegenerateTriangles(0)
-  , NumberOfUnsafeNodes(0)
   , NumberOfInputTriangles(0)
+  , NumberOfUnsafeNodes(0)
   , BuildTime(0.0)
 {
   this->Viewpoint[0] = this->Viewpoint[1] = this->Viewpoint[2] = 0.0;

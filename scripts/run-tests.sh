@@ -4,5 +4,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-bash scripts/build.sh
+bash scripts/build.sh -DPLOD_WARNINGS_AS_ERRORS=ON
 ctest --test-dir build --output-on-failure -j2

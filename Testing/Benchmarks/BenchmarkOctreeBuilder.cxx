@@ -2,7 +2,7 @@
 // Build time and bytes per node of vtkMultiscaleOctreeBuilder, beside vtkQuadricClustering on
 // the same input in the same run.
 //
-//   build/bin/BenchmarkOctreeBuilder --benchmark_repetitions=5 \
+//   build/bin/BenchmarkOctreeBuilder --benchmark_repetitions=5
 //     --benchmark_report_aggregates_only=true
 //
 // Inputs: the Stanford bunny mesh and the ten merged bunny range scans (../shared/data, skipped

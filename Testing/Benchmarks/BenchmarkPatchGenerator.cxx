@@ -3,7 +3,7 @@
 // to 1M triangles on a generated model of 1,005,360 triangles, beside vtkQuadricClustering
 // making a mesh of about the same triangle count from the full input in the same run.
 //
-//   build/bin/BenchmarkPatchGenerator --benchmark_repetitions=5 \
+//   build/bin/BenchmarkPatchGenerator --benchmark_repetitions=5
 //     --benchmark_report_aggregates_only=true
 #include "plodTestUtilities.h"
 

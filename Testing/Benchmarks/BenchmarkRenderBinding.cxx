@@ -3,7 +3,7 @@
 // push (what the renderer's StartEvent runs) against a still camera, still lights and a still
 // prop, after which the selector does not re-execute. Also one push while the camera moves.
 //
-//   build/bin/BenchmarkRenderBinding --benchmark_repetitions=5 \
+//   build/bin/BenchmarkRenderBinding --benchmark_repetitions=5
 //     --benchmark_report_aggregates_only=true
 #include "vtkActor.h"
 #include "vtkCamera.h"

@@ -554,8 +554,12 @@ TEST(MultiscalePatchGenerator, OpenSheetHasBoundaryOnlyAtItsRim)
         use[{ std::min(a, c), std::max(a, c) }] += a < c ? 1 : -1;
       }
     for (const auto& u : use)
+    {
       if (u.second != 0)
+      {
         ASSERT_TRUE(rim.count(u.first)) << "an open edge inside the sheet, trial " << trial;
+      }
+    }
   }
 }
 
@@ -607,9 +611,13 @@ TEST(MultiscalePatchGenerator, StanfordBunnyBoundaryOnlyAtItsHoles)
         out[{ std::min(a, c), std::max(a, c) }] += a < c ? 1 : -1;
       }
     for (const auto& u : out)
+    {
       if (u.second != 0)
+      {
         ASSERT_TRUE(allowed.count(u.first)) << "an open edge away from the bunny's holes, level "
                                             << level;
+      }
+    }
   }
 }
 

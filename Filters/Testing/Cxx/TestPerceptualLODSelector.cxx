@@ -597,8 +597,12 @@ TEST(PerceptualLODSelector, Extremes)
   p.Cut()->GetView(v);
   const auto state = p.Array(vtkMultiscaleOctree::CutStateArrayName());
   for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+  {
     if (state[n] == 1)
+    {
       ASSERT_EQ(v.Level[n], v.FinestLevel);
+    }
+  }
   p.Selector->SetContourTolerance(1e300);
   p.Selector->SetBrightnessTolerance(HUGE_VAL);
   p.Cut();

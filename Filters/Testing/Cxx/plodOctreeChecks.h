@@ -406,8 +406,10 @@ inline void CheckOctree(const Built& b, const std::string& what, bool topology =
   for (int64_t n = 0; n < v.NumberOfNodes; ++n)
   {
     if (v.ConeAngle[n] < Pi - 1e-5)
+    {
       ASSERT_LE(v.ConeAngle[n], loose[n] + 1e-4)
         << what << ": node " << n << "'s cone is wider than its normals need";
+    }
   }
   ASSERT_EQ(ClustersAreComponents(v), -1) << what << ": clusters are not the components";
   if (topology)
