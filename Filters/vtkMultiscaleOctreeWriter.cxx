@@ -2,9 +2,7 @@
 #include "vtkMultiscaleOctreeWriter.h"
 
 #include "plodOctreeFile.h"
-#include "vtkDataArray.h"
 #include "vtkErrorCode.h"
-#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkObjectFactory.h"
@@ -12,26 +10,6 @@
 #include <vector>
 
 vtkStandardNewMacro(vtkMultiscaleOctreeWriter);
-
-namespace
-{
-/// The VTK type of a file array type.
-int VTKType(plod::FileArrayType type)
-{
-  switch (type)
-  {
-    case plod::FileArrayType::UInt8:
-      return VTK_UNSIGNED_CHAR;
-    case plod::FileArrayType::Int32:
-      return VTK_INT;
-    case plod::FileArrayType::Float32:
-      return VTK_FLOAT;
-    case plod::FileArrayType::Int64:
-      return VTK_ID_TYPE;
-  }
-  return -1;
-}
-}
 
 //------------------------------------------------------------------------------
 vtkMultiscaleOctreeWriter::vtkMultiscaleOctreeWriter() = default;
@@ -86,42 +64,17 @@ void vtkMultiscaleOctreeWriter::WriteData()
   header.RootEdge = octree->GetRootEdge();
   header.FinestLevel = octree->GetFinestLevel();
   header.HasMaterialArrays = octree->GetHasMaterialArrays();
-  header.Nodes = octree->GetNumberOfNodes();
-  header.Points = octree->GetNumberOfSurfacePoints();
-  header.Triangles = octree->GetNumberOfSurfaceTriangles();
-  header.Clusters = header.Nodes > 0 ? octree->GetNumberOfClusters() : 0;
   header.BoundaryEdges = octree->GetNumberOfBoundaryEdges();
   header.NonManifoldEdges = octree->GetNumberOfNonManifoldEdges();
   std::vector<plod::FileArray> arrays;
-  if (header.Nodes > 0)
+  plod::OctreeView v;
+  if (octree->GetNumberOfNodes() > 0 && octree->GetView(v)) // consistent: the view exists
   {
-    for (const plod::FileArraySpec& spec : plod::OctreeFileSchema())
-    {
-      vtkFieldData* fd = spec.Group == plod::FileArrayGroup::Node ? octree->GetNodeData()
-        : spec.Group == plod::FileArrayGroup::Cluster             ? octree->GetClusterData()
-                                                                  : octree->GetSurfaceData();
-      vtkDataArray* a = fd->GetArray(spec.Name);
-      const int64_t tuples = spec.Group == plod::FileArrayGroup::Node ? header.Nodes
-        : spec.Group == plod::FileArrayGroup::Cluster                  ? header.Clusters
-        : spec.Group == plod::FileArrayGroup::Point                    ? header.Points
-                                                                       : header.Triangles;
-      if (!a || a->GetDataType() != VTKType(spec.Type) ||
-        a->GetNumberOfComponents() != spec.Components || a->GetNumberOfTuples() != tuples)
-      {
-        fail(std::string("The octree's array '") + spec.Name +
-            "' is missing or has the wrong type or size.",
-          vtkErrorCode::UnknownError);
-        return;
-      }
-      plod::FileArray f;
-      f.Name = spec.Name;
-      f.Group = spec.Group;
-      f.Type = spec.Type;
-      f.Components = spec.Components;
-      f.Tuples = tuples;
-      f.Data = a->GetVoidPointer(0);
-      arrays.push_back(f);
-    }
+    header.Nodes = v.NumberOfNodes;
+    header.Points = v.NumberOfPoints;
+    header.Triangles = v.NumberOfTriangles;
+    header.Clusters = v.NumberOfClusters;
+    arrays = plod::FileArraysOf(v);
   }
   std::string why;
   if (!plod::WriteOctreeFile(this->FileName, header, arrays, &why))

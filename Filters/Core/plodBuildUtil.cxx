@@ -94,62 +94,6 @@ void Quadric::Solve(const double mass[3], double truncation, double x[3]) const
   }
 }
 
-bool TriangleMeetsBox(
-  const double a[3], const double b[3], const double c[3], const double lo[3], double h)
-{
-  // work about the box centre, with half size r
-  const double r = 0.5 * h;
-  double v[3][3];
-  for (int i = 0; i < 3; ++i)
-  {
-    const double centre = lo[i] + r;
-    v[0][i] = a[i] - centre;
-    v[1][i] = b[i] - centre;
-    v[2][i] = c[i] - centre;
-  }
-  // box axes: the triangle's bounding box against the box
-  for (int i = 0; i < 3; ++i)
-  {
-    const double mn = std::min({ v[0][i], v[1][i], v[2][i] });
-    const double mx = std::max({ v[0][i], v[1][i], v[2][i] });
-    if (mn > r || mx < -r)
-    {
-      return false;
-    }
-  }
-  const double e[3][3] = { { v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2] },
-    { v[2][0] - v[1][0], v[2][1] - v[1][1], v[2][2] - v[1][2] },
-    { v[0][0] - v[2][0], v[0][1] - v[2][1], v[0][2] - v[2][2] } };
-  // the triangle's plane
-  double n[3];
-  Cross(e[0], e[1], n);
-  {
-    const double d = Dot(n, v[0]);
-    const double extent = r * (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]));
-    if (std::abs(d) > extent)
-    {
-      return false;
-    }
-  }
-  // the nine axes e_i x box axis j
-  for (int i = 0; i < 3; ++i)
-  {
-    for (int j = 0; j < 3; ++j)
-    {
-      double axis[3] = { 0, 0, 0 };
-      const double unit[3] = { j == 0 ? 1.0 : 0.0, j == 1 ? 1.0 : 0.0, j == 2 ? 1.0 : 0.0 };
-      Cross(e[i], unit, axis);
-      const double p0 = Dot(axis, v[0]), p1 = Dot(axis, v[1]), p2 = Dot(axis, v[2]);
-      const double extent = r * (std::abs(axis[0]) + std::abs(axis[1]) + std::abs(axis[2]));
-      if (std::min({ p0, p1, p2 }) > extent || std::max({ p0, p1, p2 }) < -extent)
-      {
-        return false;
-      }
-    }
-  }
-  return true;
-}
-
 std::string FormatNumber(double x)
 {
   char text[64];
@@ -265,8 +209,7 @@ bool PlaceRootCube(const double lo[3], const double hi[3], double origin[3], dou
   return true;
 }
 
-TriangleBoxTester::TriangleBoxTester(
-  const double a[3], const double b[3], const double c[3], double h)
+TriangleBoxTester::TriangleBoxTester(const double a[3], const double b[3], const double c[3])
 {
   const double* v[3] = { a, b, c };
   const double e[3][3] = { { b[0] - a[0], b[1] - a[1], b[2] - a[2] },
@@ -284,9 +227,11 @@ TriangleBoxTester::TriangleBoxTester(
     }
     this->Min[this->Count] = mn;
     this->Max[this->Count] = mx;
-    this->Radius[this->Count] = 0.5 * h * (std::abs(x[0]) + std::abs(x[1]) + std::abs(x[2]));
+    this->Spread[this->Count] = 0.5 * (std::abs(x[0]) + std::abs(x[1]) + std::abs(x[2]));
     ++this->Count;
   };
+  // the box axes first (the bounding boxes: the usual early exit), the triangle's plane, then
+  // the nine edge x box-axis directions
   for (int j = 0; j < 3; ++j)
   {
     const double unit[3] = { j == 0 ? 1.0 : 0.0, j == 1 ? 1.0 : 0.0, j == 2 ? 1.0 : 0.0 };
@@ -307,14 +252,15 @@ TriangleBoxTester::TriangleBoxTester(
   }
 }
 
-bool TriangleBoxTester::Meets(const double lo[3]) const
+bool TriangleBoxTester::Meets(const double lo[3], double h) const
 {
-  const double half = this->Radius[0]; // the cube's half edge (its radius along x)
+  const double half = 0.5 * h;
   const double centre[3] = { lo[0] + half, lo[1] + half, lo[2] + half };
   for (int i = 0; i < this->Count; ++i)
   {
     const double c = Dot(this->Axis[i], centre);
-    if (this->Min[i] - c > this->Radius[i] || this->Max[i] - c < -this->Radius[i])
+    const double radius = h * this->Spread[i]; // the cube's half extent along the axis
+    if (this->Min[i] - c > radius || this->Max[i] - c < -radius)
     {
       return false;
     }

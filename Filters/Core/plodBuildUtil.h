@@ -174,25 +174,21 @@ inline bool NormaliseAxis(const double sum[3], double weight, double axis[3])
 }
 
 /**
- * True when the triangle (a, b, c) meets the axis-aligned box [lo, lo + h]^3 (closed), by the
- * separating axis theorem: the box axes, the triangle normal and the nine edge cross products.
- */
-bool TriangleMeetsBox(const double a[3], const double b[3], const double c[3],
-  const double lo[3], double h);
-
-/**
- * The same test for one triangle against many cubes of one size: the 13 axes, the triangle's
- * extent along each and the cube's half extent along each are computed once.
+ * Whether the triangle (a, b, c) meets axis-aligned cubes [lo, lo + h]^3 (closed), by the
+ * separating axis theorem: the box axes, the triangle's normal and the nine edge cross
+ * products. The 13 axes and the triangle's extent along each are computed once, so one tester
+ * serves every cube (of any size) a triangle is tried against.
  */
 class TriangleBoxTester
 {
 public:
-  TriangleBoxTester(const double a[3], const double b[3], const double c[3], double h);
-  bool Meets(const double lo[3]) const;
+  TriangleBoxTester(const double a[3], const double b[3], const double c[3]);
+  bool Meets(const double lo[3], double h) const;
 
 private:
   double Axis[13][3];
-  double Min[13], Max[13], Radius[13];
+  double Min[13], Max[13];
+  double Spread[13]; // half the L1 norm of the axis: times h, the cube's half extent along it
   int Count = 0;
 };
 

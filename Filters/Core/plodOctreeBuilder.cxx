@@ -1197,7 +1197,7 @@ void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out
     if (cells <= 27)
     {
       const double h = 1.0 / scale;
-      const TriangleBoxTester tester(p[0], p[1], p[2], h);
+      const TriangleBoxTester tester(p[0], p[1], p[2]);
       for (int64_t z = ilo[2]; z <= ihi[2]; ++z)
         for (int64_t y = ilo[1]; y <= ihi[1]; ++y)
           for (int64_t x = ilo[0]; x <= ihi[0]; ++x)
@@ -1209,7 +1209,7 @@ void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out
             if (cell == key[0] || cell == key[1] || cell == key[2])
               continue;
             const double clo[3] = { x * h, y * h, z * h };
-            if (!tester.Meets(clo))
+            if (!tester.Meets(clo, h))
               continue;
             for (int l = this->L; l >= 0; --l)
             {
@@ -1230,6 +1230,7 @@ void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out
       return;
     }
   }
+  const TriangleBoxTester tester(p[0], p[1], p[2]);
   int32_t stack[8 * (MaxFinestLevel + 1)];
   int top = 0;
   stack[top++] = static_cast<int32_t>(this->Holder(t));
@@ -1263,7 +1264,7 @@ void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out
       double clo[3], h;
       KeyBox(childKey, l + 1, clo, h);
       if (hi[0] < clo[0] || hi[1] < clo[1] || hi[2] < clo[2] || lo[0] > clo[0] + h ||
-        lo[1] > clo[1] + h || lo[2] > clo[2] + h || !TriangleMeetsBox(p[0], p[1], p[2], clo, h))
+        lo[1] > clo[1] + h || lo[2] > clo[2] + h || !tester.Meets(clo, h))
       {
         continue;
       }

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -147,6 +148,92 @@ const std::vector<FileArraySpec>& OctreeFileSchema()
     { "Triangles", G::Triangle, T::Int32, 3 },
   };
   return schema;
+}
+
+namespace
+{
+/// Calls `f` on each array pointer of `v` in OctreeFileSchema() order.
+template <typename F>
+void ForEachArray(OctreeView& v, F f)
+{
+  f(v.Level);
+  f(v.Parent);
+  f(v.FirstChild);
+  f(v.ChildMask);
+  f(v.Vertex);
+  f(v.ConeAxis);
+  f(v.ConeAngle);
+  f(v.ShapeError);
+  f(v.Diffuse);
+  f(v.Specular);
+  f(v.Flags);
+  f(v.Thickness);
+  f(v.FirstPoint);
+  f(v.FirstTriangle);
+  f(v.FirstCluster);
+  f(v.ClusterNode);
+  f(v.ClusterParent);
+  f(v.ClusterVertex);
+  f(v.ClusterNormal);
+  f(v.Points);
+  f(v.Normals);
+  f(v.PointLeaf);
+  f(v.PointCluster);
+  f(v.InputPointId);
+  f(v.Triangles);
+}
+
+int64_t TuplesOf(FileArrayGroup group, int64_t nodes, int64_t clusters, int64_t points,
+  int64_t triangles)
+{
+  return group == FileArrayGroup::Node ? nodes
+    : group == FileArrayGroup::Cluster ? clusters
+    : group == FileArrayGroup::Point   ? points
+                                       : triangles;
+}
+}
+
+std::vector<FileArray> FileArraysOf(const OctreeView& view)
+{
+  OctreeView v = view;
+  std::vector<FileArray> arrays;
+  const std::vector<FileArraySpec>& schema = OctreeFileSchema();
+  ForEachArray(v, [&](auto& pointer) {
+    const FileArraySpec& spec = schema[arrays.size()];
+    FileArray f;
+    f.Name = spec.Name;
+    f.Group = spec.Group;
+    f.Type = spec.Type;
+    f.Components = spec.Components;
+    f.Tuples =
+      TuplesOf(spec.Group, v.NumberOfNodes, v.NumberOfClusters, v.NumberOfPoints, v.NumberOfTriangles);
+    f.Data = pointer;
+    arrays.push_back(f);
+  });
+  return arrays;
+}
+
+bool ViewOfFile(const OctreeFile& file, OctreeView& v, std::string* why)
+{
+  std::vector<const FileArray*> found;
+  v = OctreeView();
+  if (!MatchSchema(file, found, why))
+  {
+    return false;
+  }
+  const OctreeFileHeader& h = file.Header;
+  v.NumberOfNodes = h.Nodes;
+  v.FinestLevel = h.FinestLevel;
+  std::copy(h.Origin, h.Origin + 3, v.Origin);
+  v.RootEdge = h.RootEdge;
+  v.NumberOfClusters = h.Clusters;
+  v.NumberOfPoints = h.Points;
+  v.NumberOfTriangles = h.Triangles;
+  size_t k = 0;
+  ForEachArray(v, [&](auto& pointer) {
+    pointer = static_cast<std::remove_reference_t<decltype(pointer)>>(found[k++]->Data);
+  });
+  return true;
 }
 
 bool MatchSchema(const OctreeFile& file, std::vector<const FileArray*>& arrays, std::string* why)

@@ -37,6 +37,8 @@
 #ifndef plodOctreeFile_h
 #define plodOctreeFile_h
 
+#include "plodOctree.h"
+
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -126,6 +128,16 @@ struct OctreeFile
  */
 bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out,
   std::string* error);
+
+/// The schema's arrays of an octree, in OctreeFileSchema() order, pointing into `v` (to write).
+std::vector<FileArray> FileArraysOf(const OctreeView& v);
+
+/**
+ * The view of the octree in `file`: its counts and root cube, and every schema array (see
+ * MatchSchema); false (and `why`) when an array is missing or of the wrong type. The view is
+ * not validated (plod::ValidateOctree does that).
+ */
+bool ViewOfFile(const OctreeFile& file, OctreeView& v, std::string* why);
 
 /**
  * The arrays of `file` in OctreeFileSchema() order, each found by group and name with the

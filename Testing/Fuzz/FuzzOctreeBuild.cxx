@@ -101,6 +101,7 @@
 #include "plodCut.h"
 #include "plodOctree.h"
 #include "plodOctreeBuilder.h"
+#include "plodOctreeStorage.h"
 #include "plodPatches.h"
 #include "plodSelector.h"
 
@@ -729,26 +730,11 @@ void DecodeModel(Stream& s, Model& m)
 // ------------------------------------------------------------------------------------------------
 // The build
 
-/// The arrays an Allocator hands to the builder, owned here, each exactly as long as asked.
-struct Storage
+/// The arrays an Allocator hands to the builder (plod::OctreeStorage, filled with the poison
+/// byte `Fill`), and checks of how the builder calls it.
+struct Storage : plod::OctreeStorage
 {
-  std::vector<uint8_t> Level, ChildMask, Flags;
-  std::vector<int32_t> Parent, FirstChild, FirstPoint, FirstCluster, ClusterNode, ClusterParent,
-    PointLeaf, PointCluster, Triangles;
-  std::vector<float> Vertex, ConeAxis, ConeAngle, ShapeError, Diffuse, Specular, Thickness,
-    ClusterVertex, ClusterNormal, Points, Normals;
-  std::vector<int64_t> FirstTriangle, InputPointId;
-  int64_t Nodes = -1, NumberOfPoints = -1, NumberOfTriangles = -1, Clusters = -1;
   int NodeCalls = 0, ClusterCalls = 0;
-  uint8_t Fill = 0;
-
-  template <typename T>
-  void Make(std::vector<T>& v, int64_t n)
-  {
-    T value;
-    std::memset(&value, this->Fill, sizeof value);
-    v.assign(static_cast<size_t>(n), value);
-  }
 
   plod::Allocator MakeAllocator(int64_t maxPoints, int64_t maxTriangles)
   {
@@ -761,53 +747,7 @@ struct Storage
       CHECK(points <= maxPoints && triangles <= maxTriangles,
         "more points or triangles than the input has: " + Str(points) + " " + Str(triangles));
       CHECK(nodes <= points * (plod::MaxFinestLevel + 1), "nodes " + Str(nodes));
-      this->Nodes = nodes;
-      this->NumberOfPoints = points;
-      this->NumberOfTriangles = triangles;
-      this->Make(this->Level, nodes);
-      this->Make(this->Parent, nodes);
-      this->Make(this->FirstChild, nodes);
-      this->Make(this->ChildMask, nodes);
-      this->Make(this->Vertex, 3 * nodes);
-      this->Make(this->ConeAxis, 3 * nodes);
-      this->Make(this->ConeAngle, nodes);
-      this->Make(this->ShapeError, nodes);
-      this->Make(this->Diffuse, 2 * nodes);
-      this->Make(this->Specular, 2 * nodes);
-      this->Make(this->Flags, nodes);
-      this->Make(this->Thickness, nodes);
-      this->Make(this->FirstPoint, nodes);
-      this->Make(this->FirstTriangle, nodes);
-      this->Make(this->FirstCluster, nodes);
-      this->Make(this->Points, 3 * points);
-      this->Make(this->Normals, 3 * points);
-      this->Make(this->PointLeaf, points);
-      this->Make(this->PointCluster, points);
-      this->Make(this->InputPointId, points);
-      this->Make(this->Triangles, 3 * triangles);
-      plod::OctreeArrays o;
-      o.Level = this->Level.data();
-      o.Parent = this->Parent.data();
-      o.FirstChild = this->FirstChild.data();
-      o.ChildMask = this->ChildMask.data();
-      o.Vertex = this->Vertex.data();
-      o.ConeAxis = this->ConeAxis.data();
-      o.ConeAngle = this->ConeAngle.data();
-      o.ShapeError = this->ShapeError.data();
-      o.Diffuse = this->Diffuse.data();
-      o.Specular = this->Specular.data();
-      o.Flags = this->Flags.data();
-      o.Thickness = this->Thickness.data();
-      o.FirstPoint = this->FirstPoint.data();
-      o.FirstTriangle = this->FirstTriangle.data();
-      o.FirstCluster = this->FirstCluster.data();
-      o.Points = this->Points.data();
-      o.Normals = this->Normals.data();
-      o.PointLeaf = this->PointLeaf.data();
-      o.PointCluster = this->PointCluster.data();
-      o.InputPointId = this->InputPointId.data();
-      o.Triangles = this->Triangles.data();
-      return o;
+      return this->AllocateNodes(nodes, points, triangles);
     };
     a.Clusters = [this](int64_t clusters, plod::OctreeArrays& o) {
       ++this->ClusterCalls;
@@ -817,55 +757,9 @@ struct Storage
         "clusters " + Str(clusters) + " for " + Str(this->Nodes) + " nodes");
       CHECK(o.Level == this->Level.data() && o.Points == this->Points.data(),
         "Clusters received other arrays than Nodes returned");
-      this->Clusters = clusters;
-      this->Make(this->ClusterNode, clusters);
-      this->Make(this->ClusterParent, clusters);
-      this->Make(this->ClusterVertex, 3 * clusters);
-      this->Make(this->ClusterNormal, 3 * clusters);
-      o.ClusterNode = this->ClusterNode.data();
-      o.ClusterParent = this->ClusterParent.data();
-      o.ClusterVertex = this->ClusterVertex.data();
-      o.ClusterNormal = this->ClusterNormal.data();
+      this->AllocateClusters(clusters, o);
     };
     return a;
-  }
-
-  plod::OctreeView View(const plod::BuildResult& r) const
-  {
-    plod::OctreeView v;
-    v.NumberOfNodes = this->Nodes;
-    v.FinestLevel = r.FinestLevel;
-    std::copy(r.Origin, r.Origin + 3, v.Origin);
-    v.RootEdge = r.RootEdge;
-    v.Level = this->Level.data();
-    v.Parent = this->Parent.data();
-    v.FirstChild = this->FirstChild.data();
-    v.ChildMask = this->ChildMask.data();
-    v.Vertex = this->Vertex.data();
-    v.ConeAxis = this->ConeAxis.data();
-    v.ConeAngle = this->ConeAngle.data();
-    v.ShapeError = this->ShapeError.data();
-    v.Diffuse = this->Diffuse.data();
-    v.Specular = this->Specular.data();
-    v.Flags = this->Flags.data();
-    v.Thickness = this->Thickness.data();
-    v.FirstPoint = this->FirstPoint.data();
-    v.FirstTriangle = this->FirstTriangle.data();
-    v.FirstCluster = this->FirstCluster.data();
-    v.NumberOfClusters = this->Clusters;
-    v.ClusterNode = this->ClusterNode.data();
-    v.ClusterParent = this->ClusterParent.data();
-    v.ClusterVertex = this->ClusterVertex.data();
-    v.ClusterNormal = this->ClusterNormal.data();
-    v.NumberOfPoints = this->NumberOfPoints;
-    v.Points = this->Points.data();
-    v.Normals = this->Normals.data();
-    v.PointLeaf = this->PointLeaf.data();
-    v.PointCluster = this->PointCluster.data();
-    v.InputPointId = this->InputPointId.data();
-    v.NumberOfTriangles = this->NumberOfTriangles;
-    v.Triangles = this->Triangles.data();
-    return v;
   }
 };
 

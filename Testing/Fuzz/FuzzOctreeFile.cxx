@@ -28,6 +28,7 @@
 #include "plodOctree.h"
 #include "plodOctreeBuilder.h"
 #include "plodOctreeFile.h"
+#include "plodOctreeStorage.h"
 #include "plodPatches.h"
 #include "plodSelector.h"
 
@@ -54,78 +55,6 @@ namespace
       std::abort();                                                                              \
     }                                                                                            \
   } while (0)
-
-/// Storage for one build's arrays.
-struct Storage
-{
-  std::vector<std::vector<char>> Blocks;
-  void* Block(int64_t bytes)
-  {
-    this->Blocks.emplace_back(static_cast<size_t>(bytes > 0 ? bytes : 1));
-    return this->Blocks.back().data();
-  }
-};
-
-/// The schema's arrays of a built octree, for WriteOctreeFile.
-std::vector<plod::FileArray> FileArrays(const plod::OctreeArrays& o, const plod::BuildResult& r)
-{
-  const void* data[] = { o.Level, o.Parent, o.FirstChild, o.ChildMask, o.Vertex, o.ConeAxis,
-    o.ConeAngle, o.ShapeError, o.Diffuse, o.Specular, o.Flags, o.Thickness, o.FirstPoint,
-    o.FirstTriangle, o.FirstCluster, o.ClusterNode, o.ClusterParent, o.ClusterVertex,
-    o.ClusterNormal, o.Points, o.Normals, o.PointLeaf, o.PointCluster, o.InputPointId,
-    o.Triangles };
-  std::vector<plod::FileArray> arrays;
-  size_t k = 0;
-  for (const plod::FileArraySpec& spec : plod::OctreeFileSchema())
-  {
-    plod::FileArray f;
-    f.Name = spec.Name;
-    f.Group = spec.Group;
-    f.Type = spec.Type;
-    f.Components = spec.Components;
-    f.Tuples = spec.Group == plod::FileArrayGroup::Node ? r.NumberOfNodes
-      : spec.Group == plod::FileArrayGroup::Cluster      ? r.NumberOfClusters
-      : spec.Group == plod::FileArrayGroup::Point        ? r.NumberOfPoints
-                                                         : r.NumberOfTriangles;
-    f.Data = data[k++];
-    arrays.push_back(f);
-  }
-  return arrays;
-}
-
-/// A view of the arrays read, when every schema array is there with its type; else false.
-bool ViewOf(const plod::OctreeFile& file, plod::OctreeView& v)
-{
-  const plod::OctreeFileHeader& h = file.Header;
-  v = plod::OctreeView();
-  v.NumberOfNodes = h.Nodes;
-  v.FinestLevel = h.FinestLevel;
-  for (int k = 0; k < 3; ++k)
-    v.Origin[k] = h.Origin[k];
-  v.RootEdge = h.RootEdge;
-  v.NumberOfClusters = h.Clusters;
-  v.NumberOfPoints = h.Points;
-  v.NumberOfTriangles = h.Triangles;
-  const void** slot[] = { (const void**)&v.Level, (const void**)&v.Parent,
-    (const void**)&v.FirstChild, (const void**)&v.ChildMask, (const void**)&v.Vertex,
-    (const void**)&v.ConeAxis, (const void**)&v.ConeAngle, (const void**)&v.ShapeError,
-    (const void**)&v.Diffuse, (const void**)&v.Specular, (const void**)&v.Flags,
-    (const void**)&v.Thickness, (const void**)&v.FirstPoint, (const void**)&v.FirstTriangle,
-    (const void**)&v.FirstCluster, (const void**)&v.ClusterNode, (const void**)&v.ClusterParent,
-    (const void**)&v.ClusterVertex, (const void**)&v.ClusterNormal, (const void**)&v.Points,
-    (const void**)&v.Normals, (const void**)&v.PointLeaf, (const void**)&v.PointCluster,
-    (const void**)&v.InputPointId, (const void**)&v.Triangles };
-  std::vector<const plod::FileArray*> found;
-  if (!plod::MatchSchema(file, found, nullptr))
-  {
-    return false;
-  }
-  for (size_t k = 0; k < found.size(); ++k)
-  {
-    *slot[k] = found[k]->Data;
-  }
-  return true;
-}
 
 void CheckPatches(const plod::OctreeView& v, const uint8_t* state, const std::string& what)
 {
@@ -184,44 +113,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
       const int64_t a = i * nu + j, b = i * nu + (j + 1) % nu, c = a + nu, d = b + nu;
       triangles.insert(triangles.end(), { a, b, d, a, d, c });
     }
-  Storage storage;
-  plod::OctreeArrays arrays;
-  plod::Allocator allocate;
-  allocate.Nodes = [&](int64_t nodes, int64_t np, int64_t nt) {
-    plod::OctreeArrays& o = arrays;
-    o.Level = static_cast<uint8_t*>(storage.Block(nodes));
-    o.Parent = static_cast<int32_t*>(storage.Block(4 * nodes));
-    o.FirstChild = static_cast<int32_t*>(storage.Block(4 * nodes));
-    o.ChildMask = static_cast<uint8_t*>(storage.Block(nodes));
-    o.Vertex = static_cast<float*>(storage.Block(12 * nodes));
-    o.ConeAxis = static_cast<float*>(storage.Block(12 * nodes));
-    o.ConeAngle = static_cast<float*>(storage.Block(4 * nodes));
-    o.ShapeError = static_cast<float*>(storage.Block(4 * nodes));
-    o.Diffuse = static_cast<float*>(storage.Block(8 * nodes));
-    o.Specular = static_cast<float*>(storage.Block(8 * nodes));
-    o.Flags = static_cast<uint8_t*>(storage.Block(nodes));
-    o.Thickness = static_cast<float*>(storage.Block(4 * nodes));
-    o.FirstPoint = static_cast<int32_t*>(storage.Block(4 * nodes));
-    o.FirstTriangle = static_cast<int64_t*>(storage.Block(8 * nodes));
-    o.FirstCluster = static_cast<int32_t*>(storage.Block(4 * nodes));
-    o.Points = static_cast<float*>(storage.Block(12 * np));
-    o.Normals = static_cast<float*>(storage.Block(12 * np));
-    o.PointLeaf = static_cast<int32_t*>(storage.Block(4 * np));
-    o.PointCluster = static_cast<int32_t*>(storage.Block(4 * np));
-    o.InputPointId = static_cast<int64_t*>(storage.Block(8 * np));
-    o.Triangles = static_cast<int32_t*>(storage.Block(12 * nt));
-    return o;
-  };
-  allocate.Clusters = [&](int64_t clusters, plod::OctreeArrays& o) {
-    o.ClusterNode = static_cast<int32_t*>(storage.Block(4 * clusters));
-    o.ClusterParent = static_cast<int32_t*>(storage.Block(4 * clusters));
-    o.ClusterVertex = static_cast<float*>(storage.Block(12 * clusters));
-    o.ClusterNormal = static_cast<float*>(storage.Block(12 * clusters));
-    arrays.ClusterNode = o.ClusterNode;
-    arrays.ClusterParent = o.ClusterParent;
-    arrays.ClusterVertex = o.ClusterVertex;
-    arrays.ClusterNormal = o.ClusterNormal;
-  };
+  plod::OctreeStorage storage;
   plod::BuildInput in;
   in.NumberOfPoints = static_cast<int64_t>(points.size() / 3);
   in.Points = points.data();
@@ -229,7 +121,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   in.Triangles = triangles.data();
   plod::BuildParameters params;
   params.FinestLevel = data[1] < 64 ? -1 : 1 + data[1] % 7;
-  const plod::BuildResult r = plod::BuildOctree(in, params, allocate);
+  const plod::BuildResult r = plod::BuildOctree(in, params, storage.MakeAllocator());
   if (!r.Ok)
   {
     return 0;
@@ -247,7 +139,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   header.NonManifoldEdges = r.NumberOfNonManifoldEdges;
   const std::string path = "/tmp/plod_fuzz_file_" + std::to_string(::getpid()) + ".plod";
   std::string why;
-  const std::vector<plod::FileArray> written = FileArrays(arrays, r);
+  const std::vector<plod::FileArray> written = plod::FileArraysOf(storage.View(r));
   CHECK(plod::WriteOctreeFile(path, header, written, &why), why);
 
   // the undamaged file reads back bit for bit
@@ -342,7 +234,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   }
   (void)sum;
   plod::OctreeView v;
-  if (file.Header.Nodes == 0 || !ViewOf(file, v) || !plod::ValidateOctree(v, &why))
+  if (file.Header.Nodes == 0 || !plod::ViewOfFile(file, v, nullptr) ||
+    !plod::ValidateOctree(v, &why))
   {
     return 0;
   }

@@ -41,7 +41,7 @@ import numpy as np
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPolyData
-from vtkmodules.vtkFiltersCore import (vtkAppendPolyData, vtkCleanPolyData, vtkPolyDataNormals,
+from vtkmodules.vtkFiltersCore import (vtkAppendPolyData, vtkCleanPolyData,
                                        vtkQuadricDecimation, vtkTriangleFilter)
 from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer,
                                          vtkRenderWindow, vtkWindowToImageFilter)
@@ -179,14 +179,7 @@ def models(data, quick):
     return out
 
 
-def smooth(data):
-    normals = vtkPolyDataNormals()
-    normals.SetInputData(data)
-    normals.SplittingOff()
-    normals.Update()
-    out = vtkPolyData()
-    out.DeepCopy(normals.GetOutput())
-    return out
+smooth = measure.smooth  # smooth point normals, no splitting: the reference shading
 
 
 # ---- rendering ------------------------------------------------------------------------------
@@ -432,10 +425,10 @@ def measure_finest(name, scene, writer):
         scene.view(az, DISTANCES['mid'])
         ref = scene.render_actor(scene.ref_actor)
         img = scene.render_data(finest)
+        holes, gaps, _ = hole_split(erode(~is_background(ref), 3), img)
         row = dict(model=name, distance='mid', azimuth=az, scale='finest',
                    triangles=finest.GetNumberOfPolys(), psnr=metrics.psnr(lum(ref), lum(img)),
-                   holes=hole_split(erode(~is_background(ref), 3), img)[0],
-                   gaps=hole_split(erode(~is_background(ref), 3), img)[1], hole_depth='',
+                   holes=holes, gaps=gaps, hole_depth='',
                    covered=int((~is_background(ref)).sum()), tri_per_px='', select_ms='',
                    patch_ms=patches.GetGenerateTime() * 1e3, qd_triangles='', qd_psnr='',
                    qd_holes='', mo_triangles='', mo_psnr='')

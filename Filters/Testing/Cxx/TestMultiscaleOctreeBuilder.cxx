@@ -3,6 +3,7 @@
 // families of generated meshes (checked by brute force in plodOctreeChecks.h), extremes, bad
 // input, and the Stanford data when present.
 #include "plodOctreeBuilder.h"
+#include "plodOctreeStorage.h"
 #include "plodOctreeChecks.h"
 #include "plodTestUtilities.h"
 
@@ -917,44 +918,8 @@ TEST(MultiscaleOctreeBuilder, PointCloudKeepsItsLevelReasonAndNonFiniteCount)
   plod::BuildInput in;
   in.NumberOfPoints = static_cast<int64_t>(xyz.size() / 3);
   in.Points = xyz.data();
-  std::vector<std::vector<char>> keep;
-  auto block = [&keep](int64_t bytes) {
-    keep.emplace_back(static_cast<size_t>(std::max<int64_t>(bytes, 1)));
-    return static_cast<void*>(keep.back().data());
-  };
-  plod::Allocator allocate;
-  allocate.Nodes = [&](int64_t nodes, int64_t points, int64_t triangles) {
-    plod::OctreeArrays o;
-    o.Level = static_cast<uint8_t*>(block(nodes));
-    o.Parent = static_cast<int32_t*>(block(4 * nodes));
-    o.FirstChild = static_cast<int32_t*>(block(4 * nodes));
-    o.ChildMask = static_cast<uint8_t*>(block(nodes));
-    o.Vertex = static_cast<float*>(block(12 * nodes));
-    o.ConeAxis = static_cast<float*>(block(12 * nodes));
-    o.ConeAngle = static_cast<float*>(block(4 * nodes));
-    o.ShapeError = static_cast<float*>(block(4 * nodes));
-    o.Diffuse = static_cast<float*>(block(8 * nodes));
-    o.Specular = static_cast<float*>(block(8 * nodes));
-    o.Flags = static_cast<uint8_t*>(block(nodes));
-    o.Thickness = static_cast<float*>(block(4 * nodes));
-    o.FirstPoint = static_cast<int32_t*>(block(4 * nodes));
-    o.FirstTriangle = static_cast<int64_t*>(block(8 * nodes));
-    o.FirstCluster = static_cast<int32_t*>(block(4 * nodes));
-    o.Points = static_cast<float*>(block(12 * points));
-    o.Normals = static_cast<float*>(block(12 * points));
-    o.PointLeaf = static_cast<int32_t*>(block(4 * points));
-    o.PointCluster = static_cast<int32_t*>(block(4 * points));
-    o.InputPointId = static_cast<int64_t*>(block(8 * points));
-    o.Triangles = static_cast<int32_t*>(block(12 * triangles));
-    return o;
-  };
-  allocate.Clusters = [&](int64_t clusters, plod::OctreeArrays& o) {
-    o.ClusterNode = static_cast<int32_t*>(block(4 * clusters));
-    o.ClusterParent = static_cast<int32_t*>(block(4 * clusters));
-    o.ClusterVertex = static_cast<float*>(block(12 * clusters));
-    o.ClusterNormal = static_cast<float*>(block(12 * clusters));
-  };
-  const plod::BuildResult r = plod::BuildOctree(in, plod::BuildParameters(), allocate);
+  plod::OctreeStorage storage;
+  const plod::BuildResult r = plod::BuildOctree(in, plod::BuildParameters(), storage.MakeAllocator());
   ASSERT_TRUE(r.Ok) << r.Error;
   EXPECT_EQ(r.NumberOfNonFinitePoints, 2);
   EXPECT_NE(r.LevelReason.find("4 points on average"), std::string::npos) << r.LevelReason;

@@ -262,6 +262,42 @@ TEST(PerceptualLODSelector, MicroMotionOnBrightness)
   EXPECT_EQ(t.RootReason(top), plod::AcceptedBrightness);
 }
 
+TEST(PerceptualLODSelector, BrightnessSpreadSaturatesAtOne)
+{
+  // A rendered pixel cannot vary by more than 1: dB = min(1, M_d sum L_d dC + ...). The root of
+  // the tiny octree, seen from above (size 1, k = 1e4 / 100), a light at 60 degrees: one light
+  // of intensity 1 gives dB = 0.3973 (unsaturated); intensity 10, or three lights of intensity
+  // 1 (dB 3.97 and 1.19), give 1.
+  Tiny t;
+  auto in = Viewer(0.5, 0.5, 100.5, 1e4);
+  const double k = 1e4 / 100;
+  const double one = Spread(Pi / 3, 0.2);
+  ASSERT_LT(one, 1.0);
+  const plod::SelectorLight light{ false, { std::sin(Pi / 3), 0, std::cos(Pi / 3) }, 1, 0 };
+  in.Lights = { light };
+  in.BrightnessTolerance = 1.001 * one * k;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedBrightness);
+  in.BrightnessTolerance = 0.999 * one * k;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  for (int variant = 0; variant < 2; ++variant)
+  {
+    if (variant == 0)
+    {
+      in.Lights = { light };
+      in.Lights[0].Diffuse = 10;
+    }
+    else
+    {
+      in.Lights = { light, light, light };
+    }
+    ASSERT_GT(in.Lights.size() * in.Lights[0].Diffuse * one, 1.0) << "saturated";
+    in.BrightnessTolerance = 1.001 * k; // accepts dB = 1, not more
+    EXPECT_EQ(t.RootReason(in), plod::AcceptedBrightness) << variant;
+    in.BrightnessTolerance = 0.999 * k;
+    EXPECT_EQ(t.RootReason(in), plod::ReasonNone) << variant;
+  }
+}
+
 TEST(PerceptualLODSelector, WangSatoLevelRule)
 {
   // limit = 2 n0 sin(theta/2) D / N = 2 * 1 * sin(30 deg) * 10 / 1000 = 0.01: the coarsest

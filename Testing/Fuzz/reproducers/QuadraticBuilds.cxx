@@ -29,6 +29,7 @@
  * with fewer triangles): cloud 65536: normals 0.26 s; star 32000: edges 0.18 s.
  */
 #include "plodOctreeBuilder.h"
+#include "plodOctreeStorage.h"
 
 #include <chrono>
 #include <cmath>
@@ -70,50 +71,14 @@ int main(int argc, char** argv)
       points[3 * i + 2] = pile ? 0.5 : z / l;
     }
   }
-  std::vector<std::vector<char>> keep;
-  auto block = [&keep](int64_t bytes) {
-    keep.emplace_back(static_cast<size_t>(bytes > 0 ? bytes : 1));
-    return static_cast<void*>(keep.back().data());
-  };
-  plod::Allocator allocate;
-  allocate.Nodes = [&](int64_t nodes, int64_t np, int64_t nt) {
-    plod::OctreeArrays o;
-    o.Level = static_cast<uint8_t*>(block(nodes));
-    o.Parent = static_cast<int32_t*>(block(4 * nodes));
-    o.FirstChild = static_cast<int32_t*>(block(4 * nodes));
-    o.ChildMask = static_cast<uint8_t*>(block(nodes));
-    o.Vertex = static_cast<float*>(block(12 * nodes));
-    o.ConeAxis = static_cast<float*>(block(12 * nodes));
-    o.ConeAngle = static_cast<float*>(block(4 * nodes));
-    o.ShapeError = static_cast<float*>(block(4 * nodes));
-    o.Diffuse = static_cast<float*>(block(8 * nodes));
-    o.Specular = static_cast<float*>(block(8 * nodes));
-    o.Flags = static_cast<uint8_t*>(block(nodes));
-    o.Thickness = static_cast<float*>(block(4 * nodes));
-    o.FirstPoint = static_cast<int32_t*>(block(4 * nodes));
-    o.FirstTriangle = static_cast<int64_t*>(block(8 * nodes));
-    o.FirstCluster = static_cast<int32_t*>(block(4 * nodes));
-    o.Points = static_cast<float*>(block(12 * np));
-    o.Normals = static_cast<float*>(block(12 * np));
-    o.PointLeaf = static_cast<int32_t*>(block(4 * np));
-    o.PointCluster = static_cast<int32_t*>(block(4 * np));
-    o.InputPointId = static_cast<int64_t*>(block(8 * np));
-    o.Triangles = static_cast<int32_t*>(block(12 * nt));
-    return o;
-  };
-  allocate.Clusters = [&](int64_t clusters, plod::OctreeArrays& o) {
-    o.ClusterNode = static_cast<int32_t*>(block(4 * clusters));
-    o.ClusterParent = static_cast<int32_t*>(block(4 * clusters));
-    o.ClusterVertex = static_cast<float*>(block(12 * clusters));
-    o.ClusterNormal = static_cast<float*>(block(12 * clusters));
-  };
+  plod::OctreeStorage storage;
   plod::BuildInput in;
   in.NumberOfPoints = static_cast<int64_t>(points.size() / 3);
   in.Points = points.data();
   in.NumberOfTriangles = static_cast<int64_t>(triangles.size() / 3);
   in.Triangles = triangles.empty() ? nullptr : triangles.data();
   const auto start = std::chrono::steady_clock::now();
-  const plod::BuildResult r = plod::BuildOctree(in, plod::BuildParameters(), allocate);
+  const plod::BuildResult r = plod::BuildOctree(in, plod::BuildParameters(), storage.MakeAllocator());
   const double seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("%s of %d: %s, level %d, %.3f s\n", star ? "star" : "cloud", n,
