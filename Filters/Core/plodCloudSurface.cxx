@@ -60,8 +60,8 @@ void ForNeighbours(const Cloud& C, const int64_t c[3], int dlo, int dhi, Visit v
       }
 }
 
-/// At most this many candidate points (of the 27 cells around a point) enter its PCA normal.
-/// Beyond it the candidates are taken at an even stride: a cell piled with k points (duplicates,
+/// About this many candidate points (of the 27 cells around a point) enter its PCA normal, at
+/// most this many plus 27. Beyond it each cell's candidates are taken at an even stride: a cell piled with k points (duplicates,
 /// float rounding, a coarse level set by the user) would otherwise cost k^2 (measured: 65,536
 /// points, half on one spot, 26.6 s). A plane fit from 512 spread samples is as good as one
 /// from all; clouds at their automatic level hold a few points per cell and never reach it.
@@ -110,12 +110,10 @@ bool EstimateNormals(Cloud& C, const ParallelFor& pfor, Reporter& report, Target
       Eigen::Vector3d mean(0, 0, 0);
       Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
       int count = 0;
-      int64_t before = 0; // candidates in the ranges before this one
       for (int r = 0; r < ranges; ++r)
       {
-        // every stride-th candidate of the concatenated ranges
-        const int64_t first = range[r][0] + (stride - before % stride) % stride;
-        for (int64_t s = first; s < range[r][1]; s += stride)
+        // every stride-th candidate of each cell (at most MaxNormalCandidates + 27 in all)
+        for (int64_t s = range[r][0]; s < range[r][1]; s += stride)
         {
           const double* y = &C.U[3 * s];
           const Eigen::Vector3d d(y[0] - x[0], y[1] - x[1], y[2] - x[2]);
@@ -126,7 +124,6 @@ bool EstimateNormals(Cloud& C, const ParallelFor& pfor, Reporter& report, Target
             ++count;
           }
         }
-        before += range[r][1] - range[r][0];
       }
       double t[3];
       target(i, t);

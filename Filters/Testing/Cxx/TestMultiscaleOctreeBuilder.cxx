@@ -848,6 +848,46 @@ TEST(MultiscaleOctreeBuilder, MaterialFromArrays)
   EXPECT_FLOAT_EQ(v.Specular[1], 1.0f);
 }
 
+TEST(MultiscaleOctreeBuilder, DenseCloudNormalsFromSampledNeighbours)
+{
+  // a dense tilted plane at a coarse level set by the user: thousands of points per cell, so
+  // each PCA normal is fitted to the sampled candidates (at most 512 a point, at a stride).
+  // The contoured surface's normals must still be the plane's.
+  const double normal[3] = { 0.3, -0.4, std::sqrt(1 - 0.09 - 0.16) };
+  const double u[3] = { 0.8, 0.6, 0.0 }; // orthogonal to the normal
+  double w[3];
+  vtkMath::Cross(normal, u, w);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> U(-1, 1);
+  vtkNew<vtkPoints> pts;
+  for (int i = 0; i < 60000; ++i)
+  {
+    const double a = U(rng), b = U(rng);
+    pts->InsertNextPoint(a * u[0] + b * w[0], a * u[1] + b * w[1], a * u[2] + b * w[2]);
+  }
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(pts);
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(cloud);
+  builder->SetViewpoint(normal[0] * 10, normal[1] * 10, normal[2] * 10); // the scanner above
+  builder->UseViewpointOn();
+  builder->SetFinestLevel(4);
+  builder->Update();
+  Built b{ builder->GetOutput(), {} };
+  ASSERT_TRUE(b.Octree->GetView(b.View));
+  ASSERT_GT(b.View.NumberOfPoints, 20);
+  int64_t facing = 0;
+  for (int64_t p = 0; p < b.View.NumberOfPoints; ++p)
+  {
+    const float* n = &b.View.Normals[3 * p];
+    const double d = n[0] * normal[0] + n[1] * normal[1] + n[2] * normal[2];
+    facing += d > 0.98 ? 1 : 0;
+  }
+  // the sheet's rim cells average in few points: nearly all normals are the plane's, towards
+  // the scanner
+  EXPECT_GT(facing, 0.9 * b.View.NumberOfPoints) << facing << " of " << b.View.NumberOfPoints;
+}
+
 TEST(MultiscaleOctreeBuilder, PointCloudBecomesAClosedOrientedSurface)
 {
   // points of a sphere without normals: oriented away from the centroid, contoured into a
