@@ -97,6 +97,7 @@ struct vtkPerceptualLODSelector::Internals
 vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   : ErrorModel(ERROR_SRCC)
   , MotionModel(MOTION_NONE)
+  , VelocityCriterion(VELOCITY_ALONE)
   , FoveationMode(FOVEATION_OFF)
   , FoveationRate(2.0)
   , BackFaceMode(BACK_FACES_AUTOMATIC)
@@ -292,6 +293,7 @@ int vtkPerceptualLODSelector::RequestData(
   plod::SelectionInput in;
   in.Error = static_cast<plod::ErrorModel>(this->ErrorModel);
   in.Motion = static_cast<plod::MotionModel>(this->MotionModel);
+  in.Velocity = static_cast<plod::VelocityCriterion>(this->VelocityCriterion);
   in.Foveation = static_cast<plod::FoveationMode>(this->FoveationMode);
   in.HideBackFaces = this->BackFaceMode == BACK_FACES_HIDDEN ||
     (this->BackFaceMode == BACK_FACES_AUTOMATIC && input->GetNumberOfBoundaryEdges() == 0);
@@ -531,11 +533,13 @@ int vtkPerceptualLODSelector::RequestData(
 void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  static const char* errors[] = { "SRCC", "SCVC", "PSEC", "Distance" };
+  static const char* errors[] = { "SRCC", "SCVC", "PSEC", "Distance", "Cheng" };
   static const char* motions[] = { "None", "MicroMotion", "InverseVelocity", "DirectVelocity" };
   static const char* foveations[] = { "Off", "Object", "Screen" };
   os << indent << "ErrorModel: " << errors[this->ErrorModel] << "\n";
   os << indent << "MotionModel: " << motions[this->MotionModel] << "\n";
+  os << indent << "VelocityCriterion: "
+     << (this->VelocityCriterion == VELOCITY_ALONE ? "Alone" : "ScalesErrorModel") << "\n";
   os << indent << "FoveationMode: " << foveations[this->FoveationMode] << "\n";
   os << indent << "FoveationRate: " << this->FoveationRate << "\n";
   os << indent << "BackFaceMode: "

@@ -45,17 +45,27 @@
  * Modes of the same walk, so that they compare on equal terms:
  * - error model: SRCC (default), SCVC (ShapeError d_s / d_o <= ContourTolerance everywhere),
  *   PSEC (the same, with the tolerance times PSECFactor on the contour and where the cone holds
- *   a light's half vector), Distance (Wang & Sato: one level for the whole object, the coarsest
- *   whose cell edge is at most 2 n0 sin(view angle / 2) D / N, D the distance from the eye to
- *   the root's centre, N the viewport height, n0 = DistancePixelThreshold);
+ *   a light's half vector; the factor 0.25 is this project's choice), Distance (Wang & Sato: one
+ *   level for the whole object, the coarsest whose cell edge is at most 2 n0 sin(view angle / 2)
+ *   D / N, D the distance from the eye to the root's centre, N the viewport height,
+ *   n0 = DistancePixelThreshold), Cheng (Cheng §2 as published: a cell is simplified when the
+ *   cosine of the largest angle between two of its normals, cos(min(pi, 2 theta)), exceeds
+ *   T = exp(-FoveationRate D); D = 0 without foveation or at the point of interest, where T = 1
+ *   and every leaf is opened: full detail at the fovea; no tolerance is used);
  * - motion model: None (default); MicroMotion (TMM: v_m = M_p M_c v - v from the current and
  *   previous object->view matrices, v_f = v_m FrameInterval / PreviousFrameTime);
- *   InverseVelocity (IPV: both tolerances times max(1, s / InverseVelocitySpeed));
- *   DirectVelocity (DPV: times 1 / (1 - s / DirectVelocitySpeed), the root alone once
- *   s >= DirectVelocitySpeed); s is the speed of the root's centre in pixels per FrameInterval;
- * - foveation (Cheng): tolerances times exp(FoveationRate D); Object mode measures D about a
- *   vertical axis from FoveationPoint (D = w_h beta / pi + w_v |Y - F_y| / H, H the root edge),
- *   Screen mode as the angle between the view ray and GazeDirection, over pi.
+ *   InverseVelocity (IPV: factor max(1, s / InverseVelocitySpeed)); DirectVelocity (DPV: factor
+ *   1 / (1 - s / DirectVelocitySpeed), the root alone once s >= DirectVelocitySpeed); s is the
+ *   speed of the root's centre in pixels per FrameInterval; what the factor scales is the
+ *   VelocityCriterion (by default velocity alone, as in TMM §5.3);
+ * - foveation: with every error model but Cheng, the tolerances are multiplied by
+ *   exp(FoveationRate D) (this project's use of Cheng's distance with SRCC: the fovea keeps the
+ *   base tolerances); Object mode measures D about a vertical axis from FoveationPoint
+ *   (D = w_h beta / pi + w_v |Y - F_y| / H, H the root edge), Screen mode as the angle between
+ *   the view ray and GazeDirection, over pi.
+ * - material: with the octree's DiffuseRange and SpecularRange, each light adds
+ *   L (M_max c_max - M_min c_min) to the brightness change (TMM eq. 8-9), else the constant
+ *   DiffuseReflectance and SpecularReflectance.
  * Frustum culling applies in every mode.
  *
  * Monotonicity: lowering a tolerance never makes a drawn cell coarser, and faster micro motion
@@ -97,7 +107,8 @@ public:
     ERROR_SRCC = 0,
     ERROR_SCVC = 1,
     ERROR_PSEC = 2,
-    ERROR_DISTANCE = 3
+    ERROR_DISTANCE = 3,
+    ERROR_CHENG = 4
   };
   enum MotionModels
   {
@@ -115,12 +126,13 @@ public:
 
   ///@{
   /// Error model. Default ERROR_SRCC.
-  vtkSetClampMacro(ErrorModel, int, ERROR_SRCC, ERROR_DISTANCE);
+  vtkSetClampMacro(ErrorModel, int, ERROR_SRCC, ERROR_CHENG);
   vtkGetMacro(ErrorModel, int);
   void SetErrorModelToSRCC() { this->SetErrorModel(ERROR_SRCC); }
   void SetErrorModelToSCVC() { this->SetErrorModel(ERROR_SCVC); }
   void SetErrorModelToPSEC() { this->SetErrorModel(ERROR_PSEC); }
   void SetErrorModelToDistance() { this->SetErrorModel(ERROR_DISTANCE); }
+  void SetErrorModelToCheng() { this->SetErrorModel(ERROR_CHENG); }
   ///@}
 
   ///@{
@@ -131,6 +143,31 @@ public:
   void SetMotionModelToMicroMotion() { this->SetMotionModel(MOTION_MICRO); }
   void SetMotionModelToInverseVelocity() { this->SetMotionModel(MOTION_INVERSE_VELOCITY); }
   void SetMotionModelToDirectVelocity() { this->SetMotionModel(MOTION_DIRECT_VELOCITY); }
+  ///@}
+
+  enum VelocityCriteria
+  {
+    VELOCITY_ALONE = 0,             ///< TMM §5.3: one screen-space resolution set by the speed
+    VELOCITY_SCALES_ERROR_MODEL = 1 ///< the error model's tolerances times the speed factor
+  };
+  ///@{
+  /**
+   * What IPV and DPV scale by the object's speed. VELOCITY_ALONE (default) is the baseline as
+   * TMM §5.3 describes it: "only incorporates the criterion of velocity and thereby ignores
+   * contours and shading". Every visible cell is refined until its edge projects within
+   * ContourTolerance times the speed factor (no shape, contour, back-face or brightness test;
+   * the error model is not consulted), so at rest the object is drawn with cells of at most
+   * ContourTolerance pixels: full detail to the eye. VELOCITY_SCALES_ERROR_MODEL multiplies both
+   * tolerances of the chosen error model (SRCC by default) by the factor: a stronger baseline,
+   * kept as an option because it is what this project measured before.
+   */
+  vtkSetClampMacro(VelocityCriterion, int, VELOCITY_ALONE, VELOCITY_SCALES_ERROR_MODEL);
+  vtkGetMacro(VelocityCriterion, int);
+  void SetVelocityCriterionToAlone() { this->SetVelocityCriterion(VELOCITY_ALONE); }
+  void SetVelocityCriterionToScalesErrorModel()
+  {
+    this->SetVelocityCriterion(VELOCITY_SCALES_ERROR_MODEL);
+  }
   ///@}
 
   ///@{
@@ -348,6 +385,7 @@ protected:
 
   int ErrorModel;
   int MotionModel;
+  int VelocityCriterion;
   int FoveationMode;
   double FoveationRate;
   double FoveationPoint[3];

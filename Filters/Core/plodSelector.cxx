@@ -56,10 +56,26 @@ inline double PositivePower(double x, double power)
 
 double ConeCosineSpread(double cosA, double sinA, double cosT, double sinT, double power)
 {
-  // lowest angle to the vector inside the cone: max(0, a - theta); highest: min(pi, a + theta)
+  double high, low;
+  ConeCosineRange(cosA, sinA, cosT, sinT, power, high, low);
+  return std::max(0.0, high - low);
+}
+
+void ConeCosineRange(
+  double cosA, double sinA, double cosT, double sinT, double power, double& high, double& low)
+{
+  // highest: the smallest angle max(0, a - theta); lowest: the largest angle min(pi, a + theta)
   const double cLo = cosA >= cosT ? 1.0 : cosA * cosT + sinA * sinT;
   const double cHi = cosA <= -cosT ? -1.0 : cosA * cosT - sinA * sinT;
-  return std::max(0.0, PositivePower(cLo, power) - PositivePower(cHi, power));
+  high = PositivePower(cLo, power);
+  low = PositivePower(cHi, power);
+}
+
+bool ChengAccepts(double cosT, double sinT, double rate, double D)
+{
+  // cos(min(pi, 2 theta)): cos 2theta = cos^2 - sin^2 while theta <= pi/2, else -1
+  const double cos2 = cosT > 0 ? cosT * cosT - sinT * sinT : -1.0;
+  return cos2 > std::exp(-rate * D);
 }
 
 int DistanceLevel(double rootEdge, int finestLevel, double pixelThreshold, double viewAngle,
@@ -187,6 +203,11 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     (in.Motion == MotionModel::InverseVelocity || in.Motion == MotionModel::DirectVelocity)
     ? in.VelocityFactor
     : 1.0;
+  // IPV and DPV as TMM §5.3 defines them: velocity alone sets one screen-space resolution
+  const bool velocityAlone =
+    (in.Motion == MotionModel::InverseVelocity || in.Motion == MotionModel::DirectVelocity) &&
+    in.Velocity == VelocityCriterion::Alone;
+  const bool cheng = in.Error == ErrorModel::Cheng && !velocityAlone;
   double dop[3] = { 0, 0, -1 };
   if (in.Parallel)
   {
@@ -323,9 +344,9 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
 
     // tolerance factor: velocity (IPV/DPV) and foveation
     double factor = velocity;
+    double D = 0; // Cheng's normalised distance from the point of interest
     if (in.Foveation != FoveationMode::Off)
     {
-      double D = 0;
       if (in.Foveation == FoveationMode::Object)
       {
         const double* up = in.FoveationUp;
@@ -357,7 +378,17 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
           ray[0] * g[1] - ray[1] * g[0] };
         D = std::atan2(std::sqrt(Dot(c, c)), Dot(ray, g)) / Pi;
       }
-      factor *= std::exp(in.FoveationRate * D);
+      if (!cheng)
+        factor *= std::exp(in.FoveationRate * D);
+    }
+    if (cheng)
+    {
+      // Cheng §2 alone: curvature against the foveated threshold exp(-K D)
+      if (ChengAccepts(this->CosTheta[n], this->SinTheta[n], in.FoveationRate, D))
+        draw(n, AcceptedError);
+      else
+        refine(e, false);
+      continue;
     }
     // a tolerance of 0 accepts nothing (even an error of exactly 0)
     const double Ts = in.ContourTolerance > 0 ? in.ContourTolerance * factor : -1.0;
@@ -383,6 +414,18 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     // a cell whose edge projects within the contour tolerance cannot show more than it: its
     // points lie within that many pixels of its vertex (the size floor of every mode)
     const bool small = Ts >= 0 && h * k <= Ts && !unsafe;
+
+    if (velocityAlone)
+    {
+      if (small)
+        draw(n, AcceptedSize);
+      else
+      {
+        stats.TopologyRefined += (Ts >= 0 && h * k <= Ts) ? 1 : 0;
+        refine(e, false);
+      }
+      continue;
+    }
 
     if (!srcc)
     {
@@ -482,8 +525,11 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     double dB = 0;
     if (!in.Lights.empty())
     {
-      const double Md = in.UseOctreeMaterial ? v.Diffuse[2 * n + 1] : in.Diffuse;
-      const double Ms = in.UseOctreeMaterial ? v.Specular[2 * n + 1] : in.Specular;
+      // TMM eq. (9): the octree's (min, max) reflectances; one material: min = max
+      const double MdMin = in.UseOctreeMaterial ? v.Diffuse[2 * n] : in.Diffuse;
+      const double MdMax = in.UseOctreeMaterial ? v.Diffuse[2 * n + 1] : in.Diffuse;
+      const double MsMin = in.UseOctreeMaterial ? v.Specular[2 * n] : in.Specular;
+      const double MsMax = in.UseOctreeMaterial ? v.Specular[2 * n + 1] : in.Specular;
       for (const SelectorLight& l : in.Lights)
       {
         if (dB >= 1.0)
@@ -497,31 +543,33 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
         if (!(ll > 0))
         {
           // a light on the vertex lights every direction: the largest variation
-          dB += Md * l.Diffuse + Ms * l.Specular;
+          dB += MdMax * l.Diffuse + MsMax * l.Specular;
           continue;
         }
         for (int a = 0; a < 3; ++a)
           vl[a] /= ll;
-        if (Md > 0 && l.Diffuse > 0)
+        double high, low;
+        if (MdMax > 0 && l.Diffuse > 0)
         {
           const double ca = Dot(axis, vl);
-          dB += Md * l.Diffuse *
-            ConeCosineSpread(ca, std::sqrt(std::max(0.0, 1 - ca * ca)), cosT, sinT, 1.0);
+          ConeCosineRange(ca, std::sqrt(std::max(0.0, 1 - ca * ca)), cosT, sinT, 1.0, high, low);
+          dB += BrightnessChange(MdMin, MdMax, l.Diffuse, high, low);
         }
-        if (Ms > 0 && l.Specular > 0)
+        if (MsMax > 0 && l.Specular > 0)
         {
           double hv[3];
           for (int a = 0; a < 3; ++a)
             hv[a] = vl[a] + ve[a];
           const double hl = std::sqrt(Dot(hv, hv));
-          double spread = 1.0; // light opposite the eye: no defined half vector
+          high = 1.0; // light opposite the eye: no defined half vector
+          low = 0.0;
           if (hl > 0)
           {
             const double cb = Dot(axis, hv) / hl;
-            spread = ConeCosineSpread(
-              cb, std::sqrt(std::max(0.0, 1 - cb * cb)), cosT, sinT, in.SpecularPower);
+            ConeCosineRange(cb, std::sqrt(std::max(0.0, 1 - cb * cb)), cosT, sinT,
+              in.SpecularPower, high, low);
           }
-          dB += Ms * l.Specular * spread;
+          dB += BrightnessChange(MsMin, MsMax, l.Specular, high, low);
         }
       }
     }

@@ -47,12 +47,25 @@
  * A cell containing the eye is always refined (its error is unbounded); the eye on a vertex
  * counts as inside.
  *
+ * Brightness with a material that varies inside the cell (TMM eq. 8-9): each light's term is
+ * `L (M_max c_max - M_min c_min)`, the brightest shading the cell can show (largest reflectance,
+ * largest cosine) minus the darkest (smallest reflectance, smallest cosine). With one material,
+ * M_min = M_max and it is SRCC's `M L dC`.
+ *
  * Baselines, as modes of the same walk: SCVC (`dE k <= T_s` everywhere), PSEC (the same with
  * the tolerance multiplied by PSECFactor on the contour and where the cone contains a light's
- * half vector; no diffuse term), Distance (one level for the whole object, chosen by the caller
- * with Wang & Sato eq. 1-2). Motion: micro motion (TMM eq. 6-7, 11-13) reduces the errors by
- * the per-vertex displacement `v_f = A v + b`; IPV and DPV multiply both tolerances by one
- * factor of the object's speed. Foveation multiplies the tolerances by `exp(K D)`.
+ * half vector; no diffuse term; the factor 0.25 is this project's choice, the seeds give none),
+ * Distance (one level for the whole object, chosen by the caller with Wang & Sato eq. 1-2),
+ * Cheng (the paper's test alone: a cell is simplified when the cosine of its largest normal
+ * deviation exceeds `exp(-K D)`, so the fovea keeps full detail). Motion: micro motion (TMM eq.
+ * 6-7, 11-13) reduces the errors by the per-vertex displacement `v_f = A v + b`; IPV and DPV
+ * take one factor of the object's speed: by default (VelocityCriterion::Alone, TMM §5.3: "only
+ * incorporates the criterion of velocity and thereby ignores contours and shading") every cell
+ * is refined until its edge projects within `T_s` times the factor; ScalesErrorModel multiplies
+ * both tolerances of the error model instead. Foveation with the other modes multiplies the
+ * tolerances by `exp(K D)` (this project's combination of Cheng's D with SRCC).
+ * Frustum culling and the eye-inside rule apply in every mode; the topology rule (tubes) in every
+ * mode but Cheng's.
  */
 #ifndef plodSelector_h
 #define plodSelector_h
@@ -72,7 +85,8 @@ enum class ErrorModel
   SRCC = 0,
   SCVC = 1,
   PSEC = 2,
-  Distance = 3
+  Distance = 3,
+  Cheng = 4 // Cheng's curvature test against the foveated threshold, nothing else
 };
 
 enum class MotionModel
@@ -81,6 +95,17 @@ enum class MotionModel
   MicroMotion = 1,
   InverseVelocity = 2,
   DirectVelocity = 3
+};
+
+/// What IPV and DPV scale by the object's speed.
+enum class VelocityCriterion
+{
+  /// TMM §5.3: velocity alone, ignoring contours and shading. Cells are refined until their edge
+  /// projects within T_s times the speed factor (a uniform screen-space resolution); the error
+  /// model is not consulted.
+  Alone = 0,
+  /// Both tolerances of the chosen error model times the speed factor (a stronger baseline).
+  ScalesErrorModel = 1
 };
 
 enum class FoveationMode
@@ -145,6 +170,7 @@ struct SelectionInput
   double MotionB[3] = {};
   /// IPV / DPV: tolerance factor (>= 1; infinity: root alone), from the object's speed.
   double VelocityFactor = 1;
+  VelocityCriterion Velocity = VelocityCriterion::Alone;
 
   double PSECFactor = 0.25;
   int DistanceLevel = 0;
@@ -170,6 +196,23 @@ struct SelectionStats
 /// The difference of c(x) = max(0, cos x)^power over a cone: SRCC eq. (7) in one formula.
 /// `cosA`, `sinA`: the angle between the light (or half) vector and the axis; cone angle theta.
 double ConeCosineSpread(double cosA, double sinA, double cosT, double sinT, double power);
+
+/// The largest and the smallest of c(x) = max(0, cos x)^power over the cone (the two terms of
+/// ConeCosineSpread), for TMM eq. (9), which weighs them by different reflectances.
+void ConeCosineRange(
+  double cosA, double sinA, double cosT, double sinT, double power, double& high, double& low);
+
+/// TMM eq. (8)-(9) for one light term: I_max - I_min = M_max L c_max - M_min L c_min, at least 0.
+inline double BrightnessChange(double mMin, double mMax, double light, double high, double low)
+{
+  const double d = light * (mMax * high - mMin * low);
+  return d > 0 ? d : 0.0;
+}
+
+/// Cheng §2 on a normal cone: the largest angle between two normals of the cell is at most
+/// min(pi, 2 theta); the cell may be simplified when the cosine of that angle exceeds the
+/// threshold T = exp(-K D). At the fovea (D = 0) T = 1 and nothing is simplified.
+bool ChengAccepts(double cosT, double sinT, double rate, double D);
 
 /// Wang & Sato eq. (1)-(2): coarsest level whose cell edge is at most 2 n0 sin(angle/2) D / N;
 /// finestLevel + 1 (every leaf opened) when even the finest cells are larger.

@@ -533,11 +533,10 @@ TEST(PerceptualLODSelector, MovingAwayNeverRefinesAndFasterMotionNeverRefines)
 TEST(PerceptualLODSelector, InverseAndDirectVelocityLaws)
 {
   Pipeline p(plodtest::MakeBlob(2, 60, 0.3), 6);
-  const double focus[3] = { 0, 0, 0 }, eye[3] = { 0, 0, 4 };
-  p.Look(eye, focus);
+  const double focus[3] = { 0, 0, 0 };
+  double eye[3] = { 0, 0, 4 };
   p.Selector->SetViewportSize(1000, 1000);
   const double ds = p.Selector->GetScreenDistance();
-  const vtkIdType still = (p.Cut(), p.Selector->GetNumberOfDrawnNodes());
   p.Selector->HasPreviousFrameOn();
   p.Selector->SetPreviousFrameTime(1.0 / 60);
   p.Selector->SetFrameInterval(1.0 / 60);
@@ -558,28 +557,60 @@ TEST(PerceptualLODSelector, InverseAndDirectVelocityLaws)
     EXPECT_NEAR(p.Selector->GetObjectSpeed(), pixels, 1e-6 * std::max(1.0, pixels));
     return p.Selector->GetNumberOfDrawnNodes();
   };
-  // IPV: full detail below 10 px, then tolerances x speed/10
+  for (int criterion : { vtkPerceptualLODSelector::VELOCITY_ALONE,
+         vtkPerceptualLODSelector::VELOCITY_SCALES_ERROR_MODEL })
+  {
+    SCOPED_TRACE(criterion);
+    // velocity alone sets one screen-space cell size: seen from 20 units, level 6's cells
+    // project to about 6.5 pixels, so tolerances of 8, 16 and 64 pixels give levels 6, 5 and 3
+    const bool alone = criterion == vtkPerceptualLODSelector::VELOCITY_ALONE;
+    const double ts = alone ? 8 : 1;
+    eye[2] = alone ? 20 : 4;
+    p.Look(eye, focus);
+    p.Selector->SetContourTolerance(ts);
+    p.Selector->SetVelocityCriterion(criterion);
+    p.Selector->SetMotionModelToInverseVelocity();
+    const vtkIdType still = at(0);
+    // IPV: full detail below 10 px, then tolerances x speed/10
+    EXPECT_EQ(at(5), still);
+    EXPECT_EQ(at(10), still);
+    const vtkIdType ipv20 = at(20), ipv80 = at(80);
+    EXPECT_LT(ipv20, still);
+    EXPECT_LT(ipv80, ipv20);
+    // ... the same as a still view with the tolerances times speed/10
+    p.Selector->SetContourTolerance(2 * ts);
+    p.Selector->SetBrightnessTolerance(8);
+    EXPECT_EQ(at(0), ipv20);
+    p.Selector->SetContourTolerance(ts);
+    p.Selector->SetBrightnessTolerance(4);
+    // DPV: tolerances / (1 - s/40): at 20 px doubled; at 40 px and beyond the root alone
+    p.Selector->SetMotionModelToDirectVelocity();
+    EXPECT_EQ(at(0), still);
+    EXPECT_EQ(at(20), ipv20);
+    at(40);
+    EXPECT_EQ(p.Selector->GetNumberOfCutNodes(), 1);
+    at(400);
+    EXPECT_EQ(p.Selector->GetNumberOfCutNodes(), 1);
+  }
+  // velocity alone ignores shading and contours: the brightness tolerance and the lights change
+  // nothing, back faces are drawn, and the still cut differs from the error model's
+  p.Selector->SetVelocityCriterionToAlone();
   p.Selector->SetMotionModelToInverseVelocity();
-  EXPECT_EQ(at(5), still);
-  EXPECT_EQ(at(10), still);
-  const vtkIdType ipv20 = at(20), ipv80 = at(80);
-  EXPECT_LT(ipv20, still);
-  EXPECT_LT(ipv80, ipv20);
-  // ... the same as a still view with the tolerances times speed/10
-  p.Selector->SetMotionModelToNone();
-  p.Selector->SetContourTolerance(2);
-  p.Selector->SetBrightnessTolerance(8);
-  EXPECT_EQ((p.Cut(), p.Selector->GetNumberOfDrawnNodes()), ipv20);
-  p.Selector->SetContourTolerance(1);
+  const vtkIdType alone = at(20);
+  p.Selector->SetBrightnessTolerance(0.01);
+  p.Selector->AddLight(false, 0, 0, 1, 1, 1);
+  EXPECT_EQ(at(20), alone);
+  p.Selector->RemoveAllLights();
   p.Selector->SetBrightnessTolerance(4);
-  // DPV: tolerances / (1 - s/40): at 20 px doubled; at 40 px and beyond the root alone
-  p.Selector->SetMotionModelToDirectVelocity();
-  EXPECT_EQ(at(0), still);
-  EXPECT_EQ(at(20), ipv20);
-  at(40);
-  EXPECT_EQ(p.Selector->GetNumberOfCutNodes(), 1);
-  at(400);
-  EXPECT_EQ(p.Selector->GetNumberOfCutNodes(), 1);
+  vtkUnsignedCharArray* reason = vtkUnsignedCharArray::SafeDownCast(
+    p.Selector->GetOutput()->GetNodeData()->GetArray("CutReason"));
+  ASSERT_NE(reason, nullptr);
+  vtkIdType back = 0;
+  for (vtkIdType n = 0; n < reason->GetNumberOfValues(); ++n)
+    back += reason->GetValue(n) == plod::BackFacing ? 1 : 0;
+  EXPECT_EQ(back, 0);
+  p.Selector->SetVelocityCriterionToScalesErrorModel();
+  EXPECT_NE(at(20), alone);
 }
 
 // ---- extremes ------------------------------------------------------------------------------------
