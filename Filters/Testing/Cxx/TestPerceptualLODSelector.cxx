@@ -6,6 +6,7 @@
 #include "plodCut.h"
 #include "plodSelector.h"
 #include "plodTestUtilities.h"
+#include "plodTinyOctree.h"
 
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
@@ -28,69 +29,8 @@ namespace
 {
 constexpr double Pi = 3.14159265358979323846;
 
-/// A hand-made octree: a root (level 0) with one finest child (child 0, level 1), unit root at
-/// the origin. Every quantity is set by the test.
-struct Tiny
-{
-  uint8_t Level[2] = { 0, 1 };
-  int32_t Parent[2] = { -1, 0 };
-  int32_t FirstChild[2] = { 1, -1 };
-  uint8_t Mask[2] = { 1, 0 };
-  float Vertex[6] = { 0.5f, 0.5f, 0.5f, 0.25f, 0.25f, 0.25f };
-  float Axis[6] = { 0, 0, 1, 0, 0, 1 };
-  float Angle[2] = { 0.2f, 0.0f };
-  float Shape[2] = { 0.01f, 0.0f };
-  float Diffuse[4] = { 1, 1, 1, 1 };
-  float Specular[4] = { 0, 0, 0, 0 };
-  uint8_t Flags[2] = { plod::NodeTopologySafe, plod::NodeTopologySafe };
-  float Thickness[2] = { 0, 0 };
-  int32_t FirstPoint[2] = { 0, 0 };
-  int64_t FirstTriangle[2] = { 0, 0 };
-  plod::OctreeView View()
-  {
-    plod::OctreeView v;
-    v.NumberOfNodes = 2;
-    v.FinestLevel = 1;
-    v.RootEdge = 1;
-    v.Level = Level;
-    v.Parent = Parent;
-    v.FirstChild = FirstChild;
-    v.ChildMask = Mask;
-    v.Vertex = Vertex;
-    v.ConeAxis = Axis;
-    v.ConeAngle = Angle;
-    v.ShapeError = Shape;
-    v.Diffuse = Diffuse;
-    v.Specular = Specular;
-    v.Flags = Flags;
-    v.Thickness = Thickness;
-    v.FirstPoint = FirstPoint;
-    v.FirstTriangle = FirstTriangle;
-    return v;
-  }
-  /// Reason of the root after one selection (ReasonNone when it was refined).
-  int RootReason(const plod::SelectionInput& in, int* childReason = nullptr)
-  {
-    plod::Selector s;
-    s.SetOctree(this->View());
-    uint8_t state[2] = { 0, 0 }, reason[2] = { 0, 0 };
-    plod::SelectionStats stats;
-    s.Select(in, state, reason, nullptr, stats);
-    if (childReason)
-      *childReason = reason[1];
-    return reason[0];
-  }
-};
-
-plod::SelectionInput Viewer(double x, double y, double z, double ds = 1000)
-{
-  plod::SelectionInput in;
-  in.Eye[0] = x;
-  in.Eye[1] = y;
-  in.Eye[2] = z;
-  in.PixelScale = ds;
-  return in;
-}
+using plodtest::Tiny;
+using plodtest::Viewer;
 
 double Direct(double a, double t, double k)
 {

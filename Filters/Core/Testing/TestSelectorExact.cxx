@@ -1,0 +1,479 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Exact small cases of every mode of plod::Selector (VTK-free): each test puts a decision on
+// the boundary its formula predicts and checks both sides, so that a changed constant, factor or
+// term moves the boundary and fails. The octree is plodtest::Tiny: a unit root cell (vertex
+// (0.5, 0.5, 0.5), axis +z, cone angle 0.2, shape error 0.01) with one finest child (vertex
+// (0.25, 0.25, 0.25), axis +z, cone angle 0). Screen distance 1000 pixels unless said otherwise,
+// so a length L at distance d projects to 1000 L / d pixels.
+#include "plodSelector.h"
+#include "plodTinyOctree.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+using plodtest::Tiny;
+using plodtest::Viewer;
+
+/// The eye on the root vertex's axis (+z) at distance d.
+plod::SelectionInput Above(double d)
+{
+  return Viewer(0.5, 0.5, 0.5 + d);
+}
+} // namespace
+
+// ---- SCVC: dE d_s / d_o <= T_s everywhere, nothing else ------------------------------------
+
+TEST(SelectorExact, SCVCProjectedShapeError)
+{
+  Tiny t;
+  // error 0.01 * 1000 / d = 10 / d pixels: accepted from d = 10 on
+  auto in = Above(9.99);
+  in.Error = plod::ErrorModel::SCVC;
+  int child = -1;
+  EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::AcceptedError); // the child's error is 0
+  in = Above(10.01);
+  in.Error = plod::ErrorModel::SCVC;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+  // the tolerance scales the boundary: T_s = 2 accepts from d = 5
+  in = Above(5.01);
+  in.Error = plod::ErrorModel::SCVC;
+  in.ContourTolerance = 2;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+  in.ContourTolerance = 1.99;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+}
+
+TEST(SelectorExact, SCVCHasNoContourBackFaceOrLightingTerm)
+{
+  Tiny t;
+  // behind the surface (the cone faces away): SCVC still draws it by its error alone
+  auto in = Viewer(0.5, 0.5, 0.5 - 10.01);
+  in.Error = plod::ErrorModel::SCVC;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+  // on the contour (eye along +x): the same boundary as front-facing
+  in = Viewer(0.5 + 10.01, 0.5, 0.5);
+  in.Error = plod::ErrorModel::SCVC;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+  in = Viewer(0.5 + 9.99, 0.5, 0.5);
+  in.Error = plod::ErrorModel::SCVC;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  // a bright light and a tiny brightness tolerance change nothing
+  in = Above(10.01);
+  in.Error = plod::ErrorModel::SCVC;
+  in.Lights.push_back(plod::SelectorLight{ false, { 1, 0, 0 }, 1, 1 });
+  in.BrightnessTolerance = 1e-6;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+}
+
+// ---- PSEC: SCVC with the tolerance times PSECFactor on contours and highlights ----------------
+
+TEST(SelectorExact, PSECOnTheContourAndUnderAHighlight)
+{
+  Tiny t;
+  auto psec = [](plod::SelectionInput in) {
+    in.Error = plod::ErrorModel::PSEC;
+    return in;
+  };
+  // front-facing, no light: SCVC's boundary (d = 10)
+  EXPECT_EQ(t.RootReason(psec(Above(10.01))), plod::AcceptedError);
+  EXPECT_EQ(t.RootReason(psec(Above(9.99))), plod::ReasonNone);
+  // on the contour: tolerance 0.25: accepted from d = 40
+  EXPECT_EQ(t.RootReason(psec(Viewer(0.5 + 39.9, 0.5, 0.5))), plod::ReasonNone);
+  EXPECT_EQ(t.RootReason(psec(Viewer(0.5 + 40.1, 0.5, 0.5))), plod::AcceptedError);
+  // the factor is a parameter: 0.5 on the contour accepts from d = 20
+  auto half = psec(Viewer(0.5 + 20.1, 0.5, 0.5));
+  half.PSECFactor = 0.5;
+  EXPECT_EQ(t.RootReason(half), plod::AcceptedError);
+  half = psec(Viewer(0.5 + 19.9, 0.5, 0.5));
+  half.PSECFactor = 0.5;
+  EXPECT_EQ(t.RootReason(half), plod::ReasonNone);
+  // a light behind the eye: the half vector is the axis, inside the cone: a highlight
+  auto lit = psec(Above(39.9));
+  lit.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 0, 1 });
+  EXPECT_EQ(t.RootReason(lit), plod::ReasonNone);
+  lit = psec(Above(40.1));
+  lit.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 0, 1 });
+  EXPECT_EQ(t.RootReason(lit), plod::AcceptedError);
+  // light 1 radian off the axis: the half vector is 0.5 radian off, outside the 0.2 cone
+  lit = psec(Above(10.01));
+  lit.Lights.push_back(plod::SelectorLight{ false, { std::sin(1.0), 0, std::cos(1.0) }, 0, 1 });
+  EXPECT_EQ(t.RootReason(lit), plod::AcceptedError);
+  // half vector 0.19 radian off (light 0.38 off): inside: a highlight
+  lit = psec(Above(10.01));
+  lit.Lights.push_back(plod::SelectorLight{ false, { std::sin(0.38), 0, std::cos(0.38) }, 0, 1 });
+  EXPECT_EQ(t.RootReason(lit), plod::ReasonNone);
+  // no diffuse term: a diffuse-only light on the axis is no highlight
+  lit = psec(Above(10.01));
+  lit.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 1, 0 });
+  EXPECT_EQ(t.RootReason(lit), plod::AcceptedError);
+}
+
+// ---- Distance (Wang & Sato): one level, whatever the errors -----------------------------------
+
+TEST(SelectorExact, DistanceLevelIsTheOnlyCriterion)
+{
+  Tiny t;
+  auto in = Above(10);
+  in.Error = plod::ErrorModel::Distance;
+  in.ContourTolerance = 1e9; // no size floor in this mode
+  in.DistanceLevel = 0;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+  in.DistanceLevel = 1;
+  int child = -1;
+  EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::AcceptedError);
+  in.DistanceLevel = 2; // finer than the finest level: the leaves are opened
+  EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::OpenedLeaf);
+  // behind the surface: still drawn (no back-face test)
+  in = Viewer(0.5, 0.5, -10);
+  in.Error = plod::ErrorModel::Distance;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+}
+
+TEST(SelectorExact, WangSatoBoundaries)
+{
+  // limit = 2 n0 sin(theta / 2) D / N. theta = 90 degrees, N = 1000, n0 = 1: the limit is 0.25
+  // (level 2 of a unit root) at D = 250 / sin(45 deg) = 176.777
+  const double angle = Pi / 2;
+  EXPECT_EQ(plod::DistanceLevel(1.0, 10, 1.0, angle, 176.8, 1000), 2);
+  EXPECT_EQ(plod::DistanceLevel(1.0, 10, 1.0, angle, 176.7, 1000), 3);
+  // n0 = 2 doubles the limit: one level coarser at the same distance
+  EXPECT_EQ(plod::DistanceLevel(1.0, 10, 2.0, angle, 176.8, 1000), 1);
+  EXPECT_EQ(plod::DistanceLevel(1.0, 10, 2.0, angle, 176.7, 1000), 2);
+  // twice the pixels halve it
+  EXPECT_EQ(plod::DistanceLevel(1.0, 10, 1.0, angle, 176.8, 2000), 3);
+  // a root of edge 2 needs one more level for the same cell size
+  EXPECT_EQ(plod::DistanceLevel(2.0, 10, 1.0, angle, 176.8, 1000), 3);
+  // theta = 60 degrees: sin 30 = 0.5: limit 0.125 (level 3) at D = 125
+  EXPECT_EQ(plod::DistanceLevel(1.0, 10, 1.0, Pi / 3, 125.1, 1000), 3);
+  EXPECT_EQ(plod::DistanceLevel(1.0, 10, 1.0, Pi / 3, 124.9, 1000), 4);
+}
+
+// ---- IPV and DPV: one speed factor ----------------------------------------------------------
+
+TEST(SelectorExact, VelocityAloneSetsOneScreenResolution)
+{
+  for (auto motion : { plod::MotionModel::InverseVelocity, plod::MotionModel::DirectVelocity })
+  {
+    Tiny t;
+    t.Shape[0] = 1000; // the shape error is not consulted
+    // the root's edge at distance 100 is 10 pixels: accepted once T_s times the factor reaches 10
+    auto in = Above(100);
+    in.Motion = motion;
+    in.VelocityFactor = 9.99;
+    int child = -1;
+    EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+    // the child's edge is 0.5 at distance ~100.25: 4.99 pixels
+    EXPECT_EQ(child, plod::AcceptedSize);
+    in.VelocityFactor = 10.01;
+    EXPECT_EQ(t.RootReason(in), plod::AcceptedSize);
+    in.ContourTolerance = 2;
+    in.VelocityFactor = 5.01;
+    EXPECT_EQ(t.RootReason(in), plod::AcceptedSize);
+    in.VelocityFactor = 4.99;
+    EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+    // no contour, back-face or brightness test: behind the surface, under a light, accepted
+    in = Viewer(0.5, 0.5, 0.5 - 100);
+    in.Motion = motion;
+    in.VelocityFactor = 10.01;
+    in.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 1, 1 });
+    in.BrightnessTolerance = 1e-9;
+    EXPECT_EQ(t.RootReason(in), plod::AcceptedSize);
+    // at rest (factor 1): every cell larger than T_s is refined: the leaf is opened
+    in = Above(100);
+    in.Motion = motion;
+    EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+    EXPECT_EQ(child, plod::OpenedLeaf);
+    // an infinite factor (DPV beyond its speed): the root alone
+    in.VelocityFactor = std::numeric_limits<double>::infinity();
+    EXPECT_EQ(t.RootReason(in), plod::AcceptedSize);
+  }
+}
+
+TEST(SelectorExact, VelocityScalingTheErrorModel)
+{
+  Tiny t;
+  t.Shape[0] = 0.5f; // SCVC error at distance 100: 5 pixels; the root's edge: 10 pixels
+  for (auto motion : { plod::MotionModel::InverseVelocity, plod::MotionModel::DirectVelocity })
+  {
+    auto in = Above(100);
+    in.Error = plod::ErrorModel::SCVC;
+    in.Motion = motion;
+    in.Velocity = plod::VelocityCriterion::ScalesErrorModel;
+    in.VelocityFactor = 4.99;
+    EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+    in.VelocityFactor = 5.01;
+    EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+    // the factor is ignored without a velocity model
+    in.Motion = plod::MotionModel::None;
+    EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  }
+  // SRCC's brightness tolerance is scaled too: a light along the axis, Tb = 4: the root's
+  // brightness change 1 - cos 0.2 = 0.01993 over 1000 / d pixels: accepted from d = 4.983
+  // (rounded to the float cone angle); with a factor 2, from d = 2.49
+  Tiny lit;
+  lit.Shape[0] = 0;
+  auto in = Above(2.6);
+  in.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 1, 0 });
+  in.Motion = plod::MotionModel::InverseVelocity;
+  in.Velocity = plod::VelocityCriterion::ScalesErrorModel;
+  in.VelocityFactor = 2;
+  EXPECT_EQ(lit.RootReason(in), plod::AcceptedBrightness);
+  in.VelocityFactor = 1.9;
+  EXPECT_EQ(lit.RootReason(in), plod::ReasonNone);
+}
+
+// ---- Cheng §2: cos(2 theta) > exp(-K D) ------------------------------------------------------
+
+namespace
+{
+/// Object mode with the vertical axis z through the origin, H = 2, weights (1, 0.5), K = 1 and
+/// the fovea at (0.5, -0.5, 0.1): from the root's vertex, beta = pi/2 and |Y - F_y| = 0.4, so
+/// D = 0.5 + 0.5 * 0.2 = 0.6, T = exp(-0.6) = 0.5488 and cos(2 theta) > T for theta < 0.49494.
+plod::SelectionInput ChengObject(plod::SelectionInput in)
+{
+  in.Foveation = plod::FoveationMode::Object;
+  in.FoveationRate = 1;
+  in.FoveationCentre[0] = in.FoveationCentre[1] = in.FoveationCentre[2] = 0;
+  in.FoveationUp[0] = in.FoveationUp[1] = 0;
+  in.FoveationUp[2] = 1;
+  in.FoveationHeight = 2;
+  in.FoveationWeights[0] = 1;
+  in.FoveationWeights[1] = 0.5;
+  in.FoveationPoint[0] = 0.5;
+  in.FoveationPoint[1] = -0.5;
+  in.FoveationPoint[2] = 0.1;
+  return in;
+}
+
+/// Screen mode: the eye on the axis at distance 10, the gaze 60 degrees off the ray to the root's
+/// vertex: D = 1/3; K = 3: T = exp(-1) = 0.3679 and cos(2 theta) > T for theta < 0.59698.
+plod::SelectionInput ChengScreen(plod::SelectionInput in)
+{
+  in.Foveation = plod::FoveationMode::Screen;
+  in.FoveationRate = 3;
+  in.GazeDirection[0] = std::sin(Pi / 3);
+  in.GazeDirection[1] = 0;
+  in.GazeDirection[2] = -std::cos(Pi / 3);
+  return in;
+}
+} // namespace
+
+TEST(SelectorExact, ChengThresholdObjectMode)
+{
+  Tiny t;
+  auto in = ChengObject(Above(10));
+  in.Error = plod::ErrorModel::Cheng;
+  t.Angle[0] = 0.49f;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+  t.Angle[0] = 0.50f;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  // no tolerance, no distance: the same far away and with huge tolerances
+  in = ChengObject(Above(1e6));
+  in.Error = plod::ErrorModel::Cheng;
+  in.ContourTolerance = in.BrightnessTolerance = 1e9;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  // at the fovea (D = 0, T = 1): nothing is simplified, even a flat cell: full detail (with
+  // w_v = 0 both vertices, on the same vertical half-plane as the fovea, have D = 0)
+  in.FoveationPoint[0] = in.FoveationPoint[1] = in.FoveationPoint[2] = 0.5;
+  in.FoveationWeights[1] = 0;
+  t.Angle[0] = 0;
+  int child = -1;
+  EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::OpenedLeaf);
+  // without foveation D = 0 too
+  in = Above(10);
+  in.Error = plod::ErrorModel::Cheng;
+  EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::OpenedLeaf);
+}
+
+TEST(SelectorExact, ChengThresholdScreenMode)
+{
+  Tiny t;
+  auto in = ChengScreen(Above(10));
+  in.Error = plod::ErrorModel::Cheng;
+  t.Angle[0] = 0.59f;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+  t.Angle[0] = 0.60f;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  // the gaze on the vertex: D = 0, T = 1: even a flat cell is refined
+  in.GazeDirection[0] = 0;
+  in.GazeDirection[2] = -1;
+  t.Angle[0] = 0;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  // a cone wider than pi/2 never passes (its normals can be opposite)
+  EXPECT_FALSE(plod::ChengAccepts(std::cos(1.6), std::sin(1.6), 100, 1));
+  EXPECT_TRUE(plod::ChengAccepts(1, 0, 100, 1));
+}
+
+TEST(SelectorExact, FoveationMultipliesTheTolerancesOfTheOtherModes)
+{
+  Tiny t;
+  // object mode, D = 0.6, K = 1: T_s x exp(0.6) = 1.8221; SCVC's 10 / d accepted from d = 5.488
+  auto in = ChengObject(Above(5.45));
+  in.Error = plod::ErrorModel::SCVC;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  in = ChengObject(Above(5.53));
+  in.Error = plod::ErrorModel::SCVC;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+  // screen mode, D = 1/3, K = 3: x e: accepted from d = 3.679
+  in = ChengScreen(Above(3.64));
+  in.Error = plod::ErrorModel::SCVC;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  in = ChengScreen(Above(3.72));
+  in.Error = plod::ErrorModel::SCVC;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+}
+
+// ---- TMM eq. (8)-(9): brightest minus darkest, each with its own reflectance -------------------
+
+TEST(SelectorExact, BrightnessChangeUsesMinimumAndMaximumReflectance)
+{
+  Tiny t;
+  t.Shape[0] = 0;
+  t.Diffuse[0] = 0.5f; // the root's diffuse reflectance lies in [0.5, 1]
+  t.Diffuse[1] = 1.0f;
+  const double c = std::cos(double(0.2f));
+  // one light along the axis, the eye on it: c_max = 1, c_min = cos 0.2; dB = 1 - 0.5 cos 0.2 =
+  // 0.50997 over 1000 / d pixels: accepted (T_b = 4) from d = 127.49
+  const double dB = 1.0 - 0.5 * c;
+  const double boundary = dB * 1000 / 4;
+  auto lit = [](double d) {
+    auto in = Above(d);
+    in.UseOctreeMaterial = true;
+    in.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 1, 0 });
+    return in;
+  };
+  EXPECT_EQ(t.RootReason(lit(boundary - 0.2)), plod::ReasonNone);
+  EXPECT_EQ(t.RootReason(lit(boundary + 0.2)), plod::AcceptedBrightness);
+  // a specular range [0.2, 0.6] with power 10 adds 0.6 - 0.2 cos^10 0.2
+  t.Specular[0] = 0.2f;
+  t.Specular[1] = 0.6f;
+  const double both = dB + double(0.6f) - double(0.2f) * std::pow(c, 10);
+  auto shiny = [&](double d) {
+    auto in = lit(d);
+    in.Lights[0].Specular = 1;
+    in.SpecularPower = 10;
+    return in;
+  };
+  EXPECT_EQ(t.RootReason(shiny(both * 250 - 0.2)), plod::ReasonNone);
+  EXPECT_EQ(t.RootReason(shiny(both * 250 + 0.2)), plod::AcceptedBrightness);
+  // the helper itself
+  EXPECT_DOUBLE_EQ(plod::BrightnessChange(0.5, 1, 2, 1, 0.25), 2 * (1 - 0.125));
+  EXPECT_EQ(plod::BrightnessChange(1, 1, 1, 0.3, 0.3), 0);
+  // one material (min = max, the selector's constants): SRCC's M L (c_max - c_min)
+  Tiny one;
+  one.Shape[0] = 0;
+  auto plain = Above(0);
+  const double spread = 1 - c; // 0.01993: accepted from d = 4.983
+  plain = Above(spread * 250 + 0.01);
+  plain.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 1, 0 });
+  EXPECT_EQ(one.RootReason(plain), plod::AcceptedBrightness);
+  plain.Eye[2] = 0.5 + spread * 250 - 0.01;
+  EXPECT_EQ(one.RootReason(plain), plod::ReasonNone);
+}
+
+// ---- SRCC §3.5 step 3: children of a brightness failure are tested for brightness only -------
+
+TEST(SelectorExact, BrightnessRefinementSkipsTheContourTests)
+{
+  Tiny t;
+  t.Shape[0] = 0;
+  t.Axis[5] = -1; // the child faces away: a contour test would hide it as back-facing
+  // eye at distance 3: the root fails brightness (0.01993 x 333 px > T_b = 4)
+  auto in = Above(3);
+  in.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 1, 0 });
+  int child = -1;
+  EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::AcceptedBrightness);
+  // the same child reached through a contour failure is tested for the contour: hidden
+  t.Shape[0] = 0.01f;
+  auto contour = Viewer(0.5 + 3, 0.5, 0.5); // on the root's contour, error 3.3 px
+  EXPECT_EQ(t.RootReason(contour, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::BackFacing);
+}
+
+// ---- SRCC eq. (4)-(5), (10) with micro motion (TMM eq. 6-7, 12-13) ---------------------------
+
+TEST(SelectorExact, MicroMotionReducesBothErrorsByItsComponents)
+{
+  Tiny t;
+  // on the contour (eye along +x, 5 units): error 0.01 x 200 = 2 px > 1: refined. A motion along
+  // the axis (n.v_f = 0.006) leaves 0.004 x 200 = 0.8 px: accepted; along x it does nothing.
+  auto in = Viewer(5.5, 0.5, 0.5);
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  in.Motion = plod::MotionModel::MicroMotion;
+  in.MotionB[2] = 0.006;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedContour);
+  in.MotionB[2] = 0.004; // 0.006 x 200 = 1.2 px left
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  in.MotionB[2] = 0;
+  in.MotionB[0] = 0.006;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  // v_f = A v + b: the same displacement through A (v_z = 0.5: A_zz = 0.012)
+  in.MotionB[0] = 0;
+  in.MotionA[2][2] = 0.012;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedContour);
+  // brightness: front-facing at distance 3 (0.01993 x 333 = 6.6 > 4); a motion across the view
+  // in the axis' tilt direction shrinks the projected size. The axis tilted by 0.3 about y:
+  // c = cos 0.3, v_d = (1, 0, 0) x sin 0.3 / |sin 0.3|; size = h c - |v_d . v_f|
+  Tiny b;
+  b.Shape[0] = 0;
+  b.Axis[0] = float(std::sin(0.3));
+  b.Axis[2] = float(std::cos(0.3));
+  auto lit = Above(3);
+  lit.Lights.push_back(plod::SelectorLight{ false, { b.Axis[0], 0, b.Axis[2] }, 1, 0 });
+  EXPECT_EQ(b.RootReason(lit), plod::ReasonNone);
+  // dB = 1 - cos 0.2 = 0.019933, k = 1000 / |eye - v| = 333.33: accepted when size <= 0.60201
+  const double k = 1000.0 / 3.0, dB = 1 - std::cos(double(0.2f));
+  const double c = double(b.Axis[2]);
+  const double need = c - 4.0 / (dB * k); // the motion across the view that suffices
+  lit.Motion = plod::MotionModel::MicroMotion;
+  lit.MotionB[0] = need + 0.01;
+  EXPECT_EQ(b.RootReason(lit), plod::AcceptedBrightness);
+  lit.MotionB[0] = need - 0.01;
+  EXPECT_EQ(b.RootReason(lit), plod::ReasonNone);
+  // a motion along the view direction (v_d . v_f = 0) does nothing
+  lit.MotionB[0] = 0;
+  lit.MotionB[1] = need + 0.01;
+  EXPECT_EQ(b.RootReason(lit), plod::ReasonNone);
+}
+
+// ---- SRCC eq. (5) and (10) on their boundaries ------------------------------------------------
+
+TEST(SelectorExact, SRCCContourAndBrightnessBoundaries)
+{
+  Tiny t;
+  // contour (eye along +x at d): error 10 / d: accepted from d = 10 (T_s = 1)
+  int child = -1;
+  EXPECT_EQ(t.RootReason(Viewer(0.5 + 9.99, 0.5, 0.5), &child), plod::ReasonNone);
+  EXPECT_EQ(t.RootReason(Viewer(0.5 + 10.01, 0.5, 0.5)), plod::AcceptedContour);
+  // the contour band is |c| <= sin(theta): 0.2 rad either side of the tangent plane
+  auto tilted = [](double a) { // eye at distance 100, angle a above the tangent plane
+    return Viewer(0.5 + 100 * std::cos(a), 0.5, 0.5 + 100 * std::sin(a));
+  };
+  t.Shape[0] = 1; // 10 px on the contour: refined there, accepted front-facing
+  EXPECT_EQ(t.RootReason(tilted(0.19)), plod::ReasonNone);
+  EXPECT_EQ(t.RootReason(tilted(0.21)), plod::AcceptedBrightness);
+  EXPECT_EQ(t.RootReason(tilted(-0.21)), plod::BackFacing);
+  // brightness, front-facing: dB h (n.v_e) k <= T_b; light along the axis, eye 60 degrees off
+  // it at distance d: size h cos 60 = 0.5; dB = 1 - cos 0.2: accepted from d = 2.49
+  Tiny b;
+  b.Shape[0] = 0;
+  const double dB = 1 - std::cos(double(0.2f)), boundary = dB * 0.5 * 1000 / 4;
+  auto at = [&](double d) {
+    auto in = Viewer(0.5 + d * std::sin(Pi / 3), 0.5, 0.5 + d * std::cos(Pi / 3));
+    in.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 1, 0 });
+    return in;
+  };
+  EXPECT_EQ(b.RootReason(at(boundary - 0.01)), plod::ReasonNone);
+  EXPECT_EQ(b.RootReason(at(boundary + 0.01)), plod::AcceptedBrightness);
+}
