@@ -396,17 +396,27 @@ int vtkPerceptualLODSelector::RequestData(
       for (int c = 0; c < 3; ++c)
         in.MotionA[r][c] = A[r][c];
     }
-    // speed of the root's centre in pixels per frame interval
-    double vf[3], d[3];
+    // the object's speed, one number for IPV and DPV: the root-mean-square displacement of the
+    // root cell's eight corners, in pixels per frame interval at the root centre's distance.
+    // (The centre alone does not move when the camera orbits about it.)
+    double d[3];
     for (int r = 0; r < 3; ++r)
-    {
-      vf[r] = in.MotionA[r][0] * half + in.MotionA[r][1] * half + in.MotionA[r][2] * half +
-        in.MotionB[r];
       d[r] = in.Eye[r] - half;
-    }
     const double dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     const double k = this->ParallelProjection ? in.PixelScale : (dist > 0 ? ds / dist : 0.0);
-    this->ObjectSpeed = std::sqrt(vf[0] * vf[0] + vf[1] * vf[1] + vf[2] * vf[2]) * k;
+    double sum = 0;
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const double c[3] = { (corner & 1) ? view.RootEdge : 0.0,
+        (corner & 2) ? view.RootEdge : 0.0, (corner & 4) ? view.RootEdge : 0.0 };
+      for (int r = 0; r < 3; ++r)
+      {
+        const double vf = in.MotionA[r][0] * c[0] + in.MotionA[r][1] * c[1] +
+          in.MotionA[r][2] * c[2] + in.MotionB[r];
+        sum += vf * vf;
+      }
+    }
+    this->ObjectSpeed = std::sqrt(sum / 8) * k;
   }
   if (in.Motion == plod::MotionModel::InverseVelocity)
   {

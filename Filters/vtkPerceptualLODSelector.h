@@ -56,7 +56,9 @@
  *   previous object->view matrices, v_f = v_m FrameInterval / PreviousFrameTime);
  *   InverseVelocity (IPV: factor max(1, s / InverseVelocitySpeed)); DirectVelocity (DPV: factor
  *   1 / (1 - s / DirectVelocitySpeed), the root alone once s >= DirectVelocitySpeed); s is the
- *   speed of the root's centre in pixels per FrameInterval; what the factor scales is the
+ *   object's speed: the root-mean-square displacement v_f of the root cell's 8 corners, in pixels
+ *   per FrameInterval at the distance of the root's centre (the centre alone would not move
+ *   when the camera orbits about it); what the factor scales is the
  *   VelocityCriterion (by default velocity alone, as in TMM §5.3);
  * - foveation: with every error model but Cheng, the tolerances are multiplied by
  *   exp(FoveationRate D) (this project's use of Cheng's distance with SRCC: the fovea keeps the

@@ -553,6 +553,42 @@ TEST(PerceptualLODSelector, InverseAndDirectVelocityLaws)
   EXPECT_NE(at(20), alone);
 }
 
+TEST(PerceptualLODSelector, MicroMotionScalesByFrameIntervalOverFrameTime)
+{
+  // v_f = v_m dt / t_m (TMM §3): a shift s measured over t_m = 2 dt is the shift s / 2 over dt
+  Pipeline p(plodtest::MakeBlob(3, 60, 0.3), 6);
+  const double focus[3] = { 0, 0, 0 }, eye[3] = { 0, 0, 4 };
+  p.Look(eye, focus);
+  p.Selector->SetViewportSize(1000, 1000);
+  p.Selector->SetMotionModelToMicroMotion();
+  p.Selector->HasPreviousFrameOn();
+  auto cut = [&](double shift, double tm, double dt) {
+    double prev[16] = { 1, 0, 0, -shift, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+    p.Selector->SetPreviousObjectToViewMatrix(prev);
+    p.Selector->SetPreviousFrameTime(tm);
+    p.Selector->SetFrameInterval(dt);
+    auto state = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+    return std::make_pair(state, p.Selector->GetObjectSpeed());
+  };
+  const double dt = 1.0 / 60;
+  const auto slow = cut(0.02, 2 * dt, dt), half = cut(0.01, dt, dt);
+  EXPECT_EQ(slow.first, half.first);
+  EXPECT_NEAR(slow.second, half.second, 1e-9 * half.second);
+  const auto fast = cut(0.02, dt / 2, dt), twice = cut(0.04, dt, dt);
+  EXPECT_EQ(fast.first, twice.first);
+  EXPECT_NEAR(fast.second, twice.second, 1e-9 * twice.second);
+  EXPECT_NEAR(fast.second, 4 * slow.second, 1e-9 * fast.second);
+  // the cases differ from each other: the ratio matters
+  EXPECT_NE(slow.first, fast.first);
+  // a longer frame interval at the same frame time: more motion
+  const auto longer = cut(0.01, dt, 2 * dt);
+  EXPECT_EQ(longer.first, twice.first == half.first ? half.first : cut(0.02, dt, dt).first);
+  // t_m = 0: no motion (the still cut)
+  const auto none = cut(0.04, 0, dt);
+  p.Selector->SetMotionModelToNone();
+  EXPECT_EQ(none.first, p.Array(vtkMultiscaleOctree::CutStateArrayName()));
+}
+
 // ---- extremes ------------------------------------------------------------------------------------
 
 TEST(PerceptualLODSelector, Extremes)
