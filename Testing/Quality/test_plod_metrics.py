@@ -71,8 +71,9 @@ class TestMetrics(unittest.TestCase):
         self.assertTrue(0 < s < 1)
 
     def test_perceptual_metric(self):
-        # a flat grey disc on black has no visible detail inside, edges only; a textured disc
-        # has more visible detail pixels; an empty image has no object pixels
+        # a flat grey disc on black has no visible detail (its outline is not detail either:
+        # pm_flat is 0, see TestPerceptualOutline); a textured disc has more visible detail
+        # pixels; an empty image has no object pixels
         # (a level-j coefficient covers 2^j pixels: 3 levels on a 256-pixel image keep the
         # edge ring of the flat disc narrow)
         yy, xx = np.indices((256, 256))
@@ -388,9 +389,10 @@ class TestPerceptualGratings(unittest.TestCase):
 
     def test_doubling_ppd_moves_the_boundary(self):
         # an 8-pixel grating at 16 pixels per degree (2 cpd) needs more contrast than at 32
-        # (4 cpd): in between, invisible at 16, wholly visible at 32
+        # (4 cpd): in between, invisible at 16, wholly visible at 32 (the contrast comes from
+        # the nominal 16 and 32, so a wrong pixels_per_degree moves the outcome)
         low, high = m.pixels_per_degree(30.0, 480), m.pixels_per_degree(30.0, 960)
-        c = math.sqrt(predicted_threshold_contrast(8, low) * predicted_threshold_contrast(8, high))
+        c = math.sqrt(predicted_threshold_contrast(8, 16.0) * predicted_threshold_contrast(8, 32.0))
         image = grating(8, c)
         self.assertEqual(self.visibility(image, low), 0)
         self.assertEqual(self.visibility(image, high), image.size)
