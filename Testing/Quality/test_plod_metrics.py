@@ -402,7 +402,8 @@ class TestPerceptualGratings(unittest.TestCase):
         predicted = predicted_threshold_contrast(8, 64.0)
         for mean in (5.0, 50.0, 200.0):
             with self.subTest(mean=mean):
-                below, above = grating(8, predicted * 0.99, mean), grating(8, predicted * 1.01, mean)
+                below = grating(8, predicted * 0.99, mean)
+                above = grating(8, predicted * 1.01, mean)
                 self.assertEqual(self.visibility(below, 64.0), 0)
                 self.assertEqual(self.visibility(above, 64.0), above.size)
 
