@@ -122,4 +122,7 @@ def perceptual_metric(image, background, pixels_per_degree, levels=4, threshold=
 
 
 def pixels_per_degree(view_angle_degrees, image_height):
+    """Pixels per degree of a view whose vertical angle spans image_height pixels: the mean over
+    the field of view. (At the centre of a perspective image it is (h / 2) / tan(angle / 2) *
+    pi / 180, 2.3% less at 30 degrees; the edges have fewer still.)"""
     return image_height / view_angle_degrees
