@@ -62,8 +62,8 @@ int vtkMeshoptimizerDecimation::RequestData(
   const vtkIdType numPoints = inPoints->GetNumberOfPoints();
   if (static_cast<uint64_t>(numPoints) >= std::numeric_limits<unsigned int>::max())
   {
-    vtkErrorMacro("meshoptimizer indexes points with 32 bits: " << numPoints
-                                                               << " points are too many");
+    vtkErrorMacro(
+      "meshoptimizer indexes points with 32 bits: " << numPoints << " points are too many");
     return 1;
   }
 

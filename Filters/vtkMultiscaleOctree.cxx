@@ -252,9 +252,9 @@ bool vtkMultiscaleOctree::GetArrays(plod::OctreeArrays& out)
   auto* pointCluster = FetchArray<vtkIntArray>(fd, PointClusterArrayName(), 1, np);
   auto* ids = FetchArray<vtkIdTypeArray>(fd, InputPointIdArrayName(), 1, np);
   auto* triangles = FetchArray<vtkIntArray>(fd, TrianglesArrayName(), 3, nt);
-  if (!level || !parent || !first || !mask || !vertex || !axis || !angle || !shape ||
-    !diffuse || !specular || !flags || !thickness || !firstPoint || !firstTriangle ||
-    !firstCluster || !points || !normals || !leaf || !pointCluster || !ids || !triangles)
+  if (!level || !parent || !first || !mask || !vertex || !axis || !angle || !shape || !diffuse ||
+    !specular || !flags || !thickness || !firstPoint || !firstTriangle || !firstCluster ||
+    !points || !normals || !leaf || !pointCluster || !ids || !triangles)
   {
     return false;
   }
@@ -345,8 +345,8 @@ bool vtkMultiscaleOctree::CheckKey::operator==(const CheckKey& o) const
 {
   return this->Level == o.Level && this->Triangles == o.Triangles && this->Nodes == o.Nodes &&
     this->Points == o.Points && this->TriangleCount == o.TriangleCount &&
-    this->Clusters == o.Clusters && this->Time == o.Time &&
-    this->Finest == o.Finest && this->Origin[0] == o.Origin[0] && this->Origin[1] == o.Origin[1] &&
+    this->Clusters == o.Clusters && this->Time == o.Time && this->Finest == o.Finest &&
+    this->Origin[0] == o.Origin[0] && this->Origin[1] == o.Origin[1] &&
     this->Origin[2] == o.Origin[2] && this->Edge == o.Edge;
 }
 
@@ -469,8 +469,7 @@ vtkIdType vtkMultiscaleOctree::GetChild(vtkIdType node, int childIndex)
 {
   plod::OctreeView v;
   if (!this->IsConsistent() || !this->GetView(v) || node < 0 || node >= v.NumberOfNodes ||
-    childIndex < 0 ||
-    childIndex > 7)
+    childIndex < 0 || childIndex > 7)
   {
     return -1;
   }

@@ -31,11 +31,13 @@
  * | `ShapeError` | float | 1 | SRCC eq. (3) over the points inside, world units |
  * | `DiffuseRange` | float | 2 | (min, max) diffuse reflectance in the cell |
  * | `SpecularRange` | float | 2 | (min, max) specular reflectance in the cell |
- * | `Flags` | unsigned char | 1 | bit 0: the cell's sub-mesh is a union of discs (topologically safe to collapse); bit 1: it holds a boundary point of an open surface |
- * | `Thickness` | float | 1 | for a cell that is not topologically safe: how thick a part collapsing it could make vanish (2 sqrt(2 l2) over the points' covariance), world units; 0 otherwise |
- * | `FirstPoint` | int | 1 | the cell's points are [FirstPoint, next node of the level's FirstPoint) |
- * | `FirstTriangle` | vtkIdType | 1 | the triangles the node owns (those that collapse when it is accepted) start here |
- * | `FirstCluster` | int | 1 | the node's clusters are [FirstCluster, next node's FirstCluster) |
+ * | `Flags` | unsigned char | 1 | bit 0: the cell's sub-mesh is a union of discs (topologically
+ * safe to collapse); bit 1: it holds a boundary point of an open surface | | `Thickness` | float |
+ * 1 | for a cell that is not topologically safe: how thick a part collapsing it could make vanish
+ * (2 sqrt(2 l2) over the points' covariance), world units; 0 otherwise | | `FirstPoint` | int | 1 |
+ * the cell's points are [FirstPoint, next node of the level's FirstPoint) | | `FirstTriangle` |
+ * vtkIdType | 1 | the triangles the node owns (those that collapse when it is accepted) start here
+ * | | `FirstCluster` | int | 1 | the node's clusters are [FirstCluster, next node's FirstCluster) |
  *
  * That is 79 bytes per node. A cell's points fall into clusters, one per connected part of its
  * surface, each with its own representative vertex: the two sheets of a thin wall keep their
@@ -52,12 +54,12 @@
  *
  * | name | type | comps | meaning |
  * | --- | --- | --- | --- |
- * | `Points` | float | 3 | input points used by a triangle, in Morton order, relative to GetOrigin() |
- * | `Normals` | float | 3 | their unit shading normals (the input's, or computed as vtkPolyDataNormals does without splitting) |
- * | `PointLeaf` | int | 1 | the leaf holding each point |
- * | `PointCluster` | int | 1 | the leaf cluster holding each point |
- * | `InputPointId` | vtkIdType | 1 | each point's index in the builder's input (-1 for points contoured from a cloud) |
- * | `Triangles` | int | 3 | point indices, oriented as in the input, sorted by owner node |
+ * | `Points` | float | 3 | input points used by a triangle, in Morton order, relative to
+ * GetOrigin() | | `Normals` | float | 3 | their unit shading normals (the input's, or computed as
+ * vtkPolyDataNormals does without splitting) | | `PointLeaf` | int | 1 | the leaf holding each
+ * point | | `PointCluster` | int | 1 | the leaf cluster holding each point | | `InputPointId` |
+ * vtkIdType | 1 | each point's index in the builder's input (-1 for points contoured from a cloud)
+ * | | `Triangles` | int | 3 | point indices, oriented as in the input, sorted by owner node |
  *
  * Vertices and points are stored in single precision relative to the root origin, which is
  * kept in double: a model far from the world origin keeps full precision. GetNodeVertex()

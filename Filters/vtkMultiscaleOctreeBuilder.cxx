@@ -150,14 +150,14 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   // parameters
   if (this->FinestLevel < -1 || this->FinestLevel > plod::MaxFinestLevel)
   {
-    vtkErrorMacro("FinestLevel " << this->FinestLevel << " is outside [-1, "
-                                 << plod::MaxFinestLevel << "] (-1 chooses it from the input).");
+    vtkErrorMacro("FinestLevel " << this->FinestLevel << " is outside [-1, " << plod::MaxFinestLevel
+                                 << "] (-1 chooses it from the input).");
     return 0;
   }
   if (!(this->MemoryLimit >= 0) || !std::isfinite(this->MemoryLimit))
   {
-    vtkErrorMacro("MemoryLimit must be a non-negative number of MiB (0: automatic), not "
-      << this->MemoryLimit);
+    vtkErrorMacro(
+      "MemoryLimit must be a non-negative number of MiB (0: automatic), not " << this->MemoryLimit);
     return 0;
   }
   if (!std::isfinite(this->UniformDiffuse) || !std::isfinite(this->UniformSpecular))
@@ -216,13 +216,13 @@ int vtkMultiscaleOctreeBuilder::RequestData(
       in.NumberOfTriangles = polys->GetNumberOfCells();
       if (polys->IsStorage64Bit())
       {
-        in.Triangles = reinterpret_cast<const int64_t*>(
-          polys->GetConnectivityArray64()->GetPointer(0));
+        in.Triangles =
+          reinterpret_cast<const int64_t*>(polys->GetConnectivityArray64()->GetPointer(0));
       }
       else
       {
-        in.Triangles32 = reinterpret_cast<const int32_t*>(
-          polys->GetConnectivityArray32()->GetPointer(0));
+        in.Triangles32 =
+          reinterpret_cast<const int32_t*>(polys->GetConnectivityArray32()->GetPointer(0));
       }
     }
     else
@@ -250,8 +250,8 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   {
     if (n->GetNumberOfComponents() != 3 || n->GetNumberOfTuples() != np)
     {
-      lengthError("Normals", n->GetName(), n->GetNumberOfTuples(), n->GetNumberOfComponents(),
-        np, "point");
+      lengthError(
+        "Normals", n->GetName(), n->GetNumberOfTuples(), n->GetNumberOfComponents(), np, "point");
       return 1;
     }
     normals.resize(3 * np);
@@ -302,8 +302,7 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   bool hasMaterial = false;
   bool bad = false;
   auto material = [&](const char* name, std::vector<float>& pointValues,
-                    std::vector<float>& triValues, const float*& pointOut,
-                    const float*& triOut) {
+                    std::vector<float>& triValues, const float*& pointOut, const float*& triOut) {
     if (!name || bad)
     {
       return;
@@ -312,8 +311,8 @@ int vtkMultiscaleOctreeBuilder::RequestData(
     {
       if (a->GetNumberOfTuples() != np || a->GetNumberOfComponents() < 1)
       {
-        lengthError("Point material", name, a->GetNumberOfTuples(), a->GetNumberOfComponents(),
-          np, "point");
+        lengthError(
+          "Point material", name, a->GetNumberOfTuples(), a->GetNumberOfComponents(), np, "point");
         bad = true;
         return;
       }
@@ -426,7 +425,8 @@ void vtkMultiscaleOctreeBuilder::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FinestLevel: " << this->FinestLevel << "\n";
   os << indent << "VertexRule: " << (this->VertexRule == VERTEX_QEF ? "QEF" : "Mean") << "\n";
-  os << indent << "DiffuseArrayName: " << (this->DiffuseArrayName ? this->DiffuseArrayName : "(none)")
+  os << indent
+     << "DiffuseArrayName: " << (this->DiffuseArrayName ? this->DiffuseArrayName : "(none)")
      << "\n";
   os << indent
      << "SpecularArrayName: " << (this->SpecularArrayName ? this->SpecularArrayName : "(none)")

@@ -39,10 +39,11 @@
  * opened holes in thin parts).
  *
  * Default finest level (FinestLevel = -1): for meshes, the shallowest level whose occupied cells
- * number at least a quarter of the distinct input points (leaves hold about four points); for clouds, the deepest level whose occupied cells hold at least 4 points on
- * average. It is lowered, with a warning saying to which level and why, when the estimated
- * memory exceeds the limit; GetFinestLevelReason() says which rule decided. An explicit level
- * whose estimated memory exceeds MemoryLimit is an error.
+ * number at least a quarter of the distinct input points (leaves hold about four points); for
+ * clouds, the deepest level whose occupied cells hold at least 4 points on average. It is lowered,
+ * with a warning saying to which level and why, when the estimated memory exceeds the limit;
+ * GetFinestLevelReason() says which rule decided. An explicit level whose estimated memory exceeds
+ * MemoryLimit is an error.
  *
  * Bad input never stops the build silently: triangles with an index out of range or a point
  * with NaN or infinite coordinates are skipped with a warning (GetNumberOfInvalidTriangles()),

@@ -97,8 +97,9 @@ void vtkMultiscaleOctreeCutter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Mode: "
-     << (this->Mode == CUT_UNIFORM ? "Uniform"
-                                   : this->Mode == CUT_REFINE_ARRAY ? "RefineArray" : "Callback")
+     << (this->Mode == CUT_UNIFORM           ? "Uniform"
+            : this->Mode == CUT_REFINE_ARRAY ? "RefineArray"
+                                             : "Callback")
      << "\n";
   os << indent << "Level: " << this->Level << "\n";
   os << indent << "RefineArrayName: " << (this->RefineArrayName ? this->RefineArrayName : "(none)")

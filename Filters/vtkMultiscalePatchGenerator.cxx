@@ -136,8 +136,8 @@ int vtkMultiscalePatchGenerator::RequestData(
   const vtkIdType np = static_cast<vtkIdType>(r.PointSource.size());
   const vtkIdType nt = static_cast<vtkIdType>(r.Triangles.size() / 3);
   // far from the origin relative to its size: keep double precision
-  const double far = std::max({ std::abs(v.Origin[0]), std::abs(v.Origin[1]),
-    std::abs(v.Origin[2]) });
+  const double far =
+    std::max({ std::abs(v.Origin[0]), std::abs(v.Origin[1]), std::abs(v.Origin[2]) });
   auto position = [&v](int64_t source) {
     return source >= 0 ? &v.ClusterVertex[3 * source] : &v.Points[3 * (-1 - source)];
   };
@@ -257,8 +257,7 @@ void vtkMultiscalePatchGenerator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GenerateNormals: " << (this->GenerateNormals ? "On" : "Off") << "\n";
   os << indent << "GenerateColors: " << (this->GenerateColors ? "On" : "Off") << "\n";
   os << indent << "GenerateNodeIds: " << (this->GenerateNodeIds ? "On" : "Off") << "\n";
-  os << indent << "GenerateInputPointIds: " << (this->GenerateInputPointIds ? "On" : "Off")
-     << "\n";
+  os << indent << "GenerateInputPointIds: " << (this->GenerateInputPointIds ? "On" : "Off") << "\n";
   os << indent << "NumberOfTriangles: " << this->NumberOfTriangles << "\n";
   os << indent << "NumberOfOutputPoints: " << this->NumberOfOutputPoints << "\n";
   os << indent << "NodesVisited: " << this->NodesVisited << "\n";

@@ -14,8 +14,8 @@
  *
  * Output:
  * - points: the representative vertices of the cut clusters used, the points of opened
- *   leaves, and the own corners of turned-over triangles (see FoldHandling) (world coordinates, double precision when the octree sits far from the origin
- *   relative to its size, else float);
+ *   leaves, and the own corners of turned-over triangles (see FoldHandling) (world coordinates,
+ * double precision when the octree sits far from the origin relative to its size, else float);
  * - triangles, oriented as the input's;
  * - point normals: the clusters' shading normals (area-weighted mean normals), and for the
  *   points of opened leaves their input shading normals (SRCC shades by interpolation);
@@ -29,7 +29,8 @@
  * No crack can open between cells of different levels: triangles share corners as in the
  * input. A closed, consistently oriented input gives a closed, consistently oriented output at
  * every cut (point for point with FoldHandling KEEP; with the default, turned-over triangles
- * sit on points of their own at the same places). The cut of every leaf opened draws the input itself, triangle for triangle.
+ * sit on points of their own at the same places). The cut of every leaf opened draws the input
+ * itself, triangle for triangle.
  *
  * Which cells: a triangle is emitted when at least one of its cells is drawn; among hidden
  * cells only, it is skipped when one of them faces away or when all were culled by one common

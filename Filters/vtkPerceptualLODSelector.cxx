@@ -3,12 +3,11 @@
 
 #include "plodSelector.h"
 
+#include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMatrix4x4.h"
-#include "vtkDoubleArray.h"
-#include "vtkFieldData.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -204,8 +203,8 @@ void vtkPerceptualLODSelector::SetLight(
 {
   if (index < 0 || index >= this->GetNumberOfLights())
   {
-    vtkErrorMacro("SetLight: index " << index << " outside [0, " << this->GetNumberOfLights()
-                                     << ").");
+    vtkErrorMacro(
+      "SetLight: index " << index << " outside [0, " << this->GetNumberOfLights() << ").");
     return;
   }
   plod::SelectorLight& l = this->Internal->Lights[index];
@@ -268,7 +267,8 @@ int vtkPerceptualLODSelector::RequestData(
   else if (!this->ParallelProjection && !this->UsePhysicalDisplay &&
     !(this->ViewAngle > 0 && this->ViewAngle < 180))
     problem = "the view angle must be in (0, 180) degrees";
-  else if (this->ParallelProjection && !(this->ParallelScale > 0 && std::isfinite(this->ParallelScale)))
+  else if (this->ParallelProjection &&
+    !(this->ParallelScale > 0 && std::isfinite(this->ParallelScale)))
     problem = "the parallel scale must be positive and finite";
   else if (this->UsePhysicalDisplay &&
     !(this->PixelPitch > 0 && this->ViewingDistance > 0 && std::isfinite(this->ViewingDistance)))
@@ -407,8 +407,8 @@ int vtkPerceptualLODSelector::RequestData(
     double sum = 0;
     for (int corner = 0; corner < 8; ++corner)
     {
-      const double c[3] = { (corner & 1) ? view.RootEdge : 0.0,
-        (corner & 2) ? view.RootEdge : 0.0, (corner & 4) ? view.RootEdge : 0.0 };
+      const double c[3] = { (corner & 1) ? view.RootEdge : 0.0, (corner & 2) ? view.RootEdge : 0.0,
+        (corner & 4) ? view.RootEdge : 0.0 };
       for (int r = 0; r < 3; ++r)
       {
         const double vf = in.MotionA[r][0] * c[0] + in.MotionA[r][1] * c[1] +
@@ -451,7 +451,8 @@ int vtkPerceptualLODSelector::RequestData(
     return 1;
   }
 
-  // ---- caches follow the octree ------------------------------------------------------------------
+  // ---- caches follow the octree
+  // ------------------------------------------------------------------
   Internals& I = *this->Internal;
   if (I.LevelArray != view.Level || I.Nodes != view.NumberOfNodes ||
     I.InputTime != input->GetMTime() || !I.State)
@@ -474,8 +475,8 @@ int vtkPerceptualLODSelector::RequestData(
     I.InputTime = input->GetMTime();
   }
   plod::SelectionStats stats;
-  I.Kernel.Select(in, I.State->GetPointer(0), I.Reason->GetPointer(0),
-    I.CullMask->GetPointer(0), stats);
+  I.Kernel.Select(
+    in, I.State->GetPointer(0), I.Reason->GetPointer(0), I.CullMask->GetPointer(0), stats);
   I.State->Modified();
   I.Reason->Modified();
   I.CullMask->Modified();
@@ -553,21 +554,21 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FoveationMode: " << foveations[this->FoveationMode] << "\n";
   os << indent << "FoveationRate: " << this->FoveationRate << "\n";
   os << indent << "BackFaceMode: "
-     << (this->BackFaceMode == BACK_FACES_AUTOMATIC ? "Automatic"
-           : this->BackFaceMode == BACK_FACES_HIDDEN ? "Hidden"
-                                                     : "Drawn")
+     << (this->BackFaceMode == BACK_FACES_AUTOMATIC   ? "Automatic"
+            : this->BackFaceMode == BACK_FACES_HIDDEN ? "Hidden"
+                                                      : "Drawn")
      << " (last: " << (this->HidBackFaces ? "hidden" : "drawn") << ")\n";
   os << indent << "ContourTolerance: " << this->ContourTolerance << " px\n";
   os << indent << "TopologyTolerance: " << this->TopologyTolerance << " px\n";
   os << indent << "BrightnessTolerance: " << this->BrightnessTolerance << "\n";
-  os << indent << "EyePosition: (" << this->EyePosition[0] << ", " << this->EyePosition[1]
-     << ", " << this->EyePosition[2] << ")\n";
+  os << indent << "EyePosition: (" << this->EyePosition[0] << ", " << this->EyePosition[1] << ", "
+     << this->EyePosition[2] << ")\n";
   os << indent << "ViewAngle: " << this->ViewAngle << " deg\n";
   os << indent << "ViewportSize: " << this->ViewportSize[0] << " x " << this->ViewportSize[1]
      << "\n";
   os << indent << "UseFrustum: " << (this->UseFrustum ? "On" : "Off") << "\n";
-  os << indent << "ParallelProjection: " << (this->ParallelProjection ? "On" : "Off")
-     << ", scale " << this->ParallelScale << "\n";
+  os << indent << "ParallelProjection: " << (this->ParallelProjection ? "On" : "Off") << ", scale "
+     << this->ParallelScale << "\n";
   os << indent << "UsePhysicalDisplay: " << (this->UsePhysicalDisplay ? "On" : "Off")
      << ", pixel pitch " << this->PixelPitch << ", viewing distance " << this->ViewingDistance
      << "\n";
@@ -584,6 +585,6 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DistancePixelThreshold: " << this->DistancePixelThreshold << "\n";
   os << indent << "Last: " << this->NumberOfVisitedNodes << " visited, " << this->NumberOfCutNodes
      << " in the cut, " << this->NumberOfDrawnNodes << " drawn, " << this->SelectTime * 1e3
-     << " ms, object speed " << this->ObjectSpeed << " px, distance level "
-     << this->DistanceLevel << "\n";
+     << " ms, object speed " << this->ObjectSpeed << " px, distance level " << this->DistanceLevel
+     << "\n";
 }

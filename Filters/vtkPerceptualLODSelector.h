@@ -32,9 +32,9 @@
  * (its shape error decides), since its outline is seen from every side.
  * Size floor (every mode but Distance): a cell whose edge projects to at most ContourTolerance
  * pixels is accepted, since its points then lie within about that many pixels of its vertex
- * on the screen (the vertex is clamped to the cell); without it, brightness and contour tests kept refining sub-pixel cells (measured:
- * far views drew several triangles per covered pixel).
- * See plodSelector.h for the formulas as implemented.
+ * on the screen (the vertex is clamped to the cell); without it, brightness and contour tests kept
+ * refining sub-pixel cells (measured: far views drew several triangles per covered pixel). See
+ * plodSelector.h for the formulas as implemented.
  *
  * Units: ContourTolerance in pixels (default 1). BrightnessTolerance in brightness x pixels,
  * brightness being reflectance x luminance-weighted light intensity in [0, 1] (default 4: a
@@ -297,8 +297,8 @@ public:
    */
   void SetNumberOfLights(int n);
   int GetNumberOfLights();
-  void SetLight(int index, bool positional, double x, double y, double z, double diffuse,
-    double specular);
+  void SetLight(
+    int index, bool positional, double x, double y, double z, double diffuse, double specular);
   void AddLight(bool positional, double x, double y, double z, double diffuse, double specular);
   void RemoveAllLights() { this->SetNumberOfLights(0); }
   /// Luminance of an RGB colour (Rec. 709 weights), to fold a light's colour into an intensity.

@@ -154,7 +154,8 @@ double* vtkPerceptualLODActor::GetBounds()
   // the surface's bounds, once per octree modification
   if (octree->GetMTime() > this->ModelBoundsTime)
   {
-    vtkDataArray* points = octree->GetSurfaceData()->GetArray(vtkMultiscaleOctree::PointsArrayName());
+    vtkDataArray* points =
+      octree->GetSurfaceData()->GetArray(vtkMultiscaleOctree::PointsArrayName());
     const double* origin = octree->GetOrigin();
     if (points && points->GetNumberOfTuples() > 0 && points->GetNumberOfComponents() == 3)
     {

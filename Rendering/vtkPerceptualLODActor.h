@@ -111,7 +111,7 @@ protected:
   void Feed(vtkViewport* viewport);
 
   vtkTrivialProducer* Producer = nullptr;
-  vtkActor* Device = nullptr;        // the backend's actor (vtkOpenGLActor), as in vtkLODActor
+  vtkActor* Device = nullptr; // the backend's actor (vtkOpenGLActor), as in vtkLODActor
   vtkMatrix4x4* DeviceMatrix = nullptr;
   vtkMultiscaleOctreeBuilder* Builder = nullptr;
   vtkPerceptualLODSelector* Selector = nullptr;

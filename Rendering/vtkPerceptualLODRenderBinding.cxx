@@ -210,7 +210,8 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
   sel->SetParallelScale(camera->GetParallelScale());
   sel->SetProjectionDirection(camera->GetDirectionOfProjection());
 
-  // ---- lights ------------------------------------------------------------------------------------
+  // ---- lights
+  // ------------------------------------------------------------------------------------
   struct L
   {
     bool Positional;

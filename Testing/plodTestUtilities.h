@@ -17,15 +17,15 @@
 #include "vtkOBJReader.h"
 #include "vtkPLYFileCheck.h"
 #include "vtkPLYReader.h"
-#include "vtkSTLReader.h"
-#include "vtkXMLPolyDataReader.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataAlgorithm.h"
+#include "vtkSTLReader.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
 #include "vtkTransform.h"
+#include "vtkXMLPolyDataReader.h"
 
 #include <algorithm>
 #include <array>
@@ -142,8 +142,8 @@ inline vtkSmartPointer<vtkPolyData> MakeCube(double lo, double hi)
 /// Regular tetrahedron with outward triangles, centred at the origin.
 inline vtkSmartPointer<vtkPolyData> MakeTetrahedron()
 {
-  return MakeMesh({ 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1 },
-    { 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2 });
+  return MakeMesh(
+    { 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1 }, { 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2 });
 }
 
 /// Unit square [0,1]^2 at height z, normal +z (two triangles sharing the diagonal).
@@ -215,7 +215,8 @@ inline vtkSmartPointer<vtkPolyData> MakeBlob(unsigned seed, int res, double nois
     {
       const double f = 1.0 + 2.0 * k;
       r += noise / 6.0 *
-        std::sin(f * (waves[k][0] * x[0] + waves[k][1] * x[1] + waves[k][2] * x[2]) + 3 * waves[k][3]);
+        std::sin(
+          f * (waves[k][0] * x[0] + waves[k][1] * x[1] + waves[k][2] * x[2]) + 3 * waves[k][3]);
     }
     for (int a = 0; a < 3; ++a)
     {
@@ -356,8 +357,9 @@ inline vtkSmartPointer<vtkPolyData> MakeRing(double R, double r, int nu, int nv)
     for (int j = 0; j < nv; ++j)
     {
       const double u = pi2 * i / nu, v = pi2 * j / nv;
-      xyz.insert(xyz.end(), { (R + r * std::cos(v)) * std::cos(u),
-                              (R + r * std::cos(v)) * std::sin(u), r * std::sin(v) });
+      xyz.insert(xyz.end(),
+        { (R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
+          r * std::sin(v) });
     }
   }
   auto id = [nu, nv](int i, int j) { return vtkIdType((i % nu) * nv + (j % nv)); };
@@ -576,7 +578,8 @@ inline vtkSmartPointer<vtkPolyData> ReadBunnyScans(const std::string& dir, int* 
     std::istringstream is(line);
     std::string kind, file;
     double t[3], q[4];
-    if (!(is >> kind) || kind != "bmesh" || !(is >> file >> t[0] >> t[1] >> t[2] >> q[0] >> q[1] >> q[2] >> q[3]))
+    if (!(is >> kind) || kind != "bmesh" ||
+      !(is >> file >> t[0] >> t[1] >> t[2] >> q[0] >> q[1] >> q[2] >> q[3]))
     {
       continue;
     }

@@ -47,9 +47,8 @@ int main(int argc, char* argv[])
       save = argv[++i];
     else if (a == "-h" || a == "--help")
     {
-      std::printf(
-        "usage: %s [model.ply|.stl|.obj|.vtp|.plod] [--level N] [--mean] [--serial] "
-        "[--save octree.plod]\n",
+      std::printf("usage: %s [model.ply|.stl|.obj|.vtp|.plod] [--level N] [--mean] [--serial] "
+                  "[--save octree.plod]\n",
         argv[0]);
       return 0;
     }
@@ -117,11 +116,11 @@ int main(int argc, char* argv[])
   }
   std::printf("octree: %lld nodes, finest level %d, root edge %g at (%g, %g, %g)\n",
     static_cast<long long>(octree->GetNumberOfNodes()), octree->GetFinestLevel(),
-    octree->GetRootEdge(), octree->GetOrigin()[0], octree->GetOrigin()[1],
-    octree->GetOrigin()[2]);
+    octree->GetRootEdge(), octree->GetOrigin()[0], octree->GetOrigin()[1], octree->GetOrigin()[2]);
   std::printf("memory: %.1f MiB (%.1f bytes per input triangle)\n",
     octree->GetActualMemorySize() / 1024.0,
-    octree->GetActualMemorySize() * 1024.0 / std::max<vtkIdType>(1, octree->GetNumberOfSurfaceTriangles()));
+    octree->GetActualMemorySize() * 1024.0 /
+      std::max<vtkIdType>(1, octree->GetNumberOfSurfaceTriangles()));
   if (!save.empty())
   {
     vtkNew<vtkMultiscaleOctreeWriter> writer;

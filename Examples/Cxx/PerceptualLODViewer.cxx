@@ -139,7 +139,8 @@ struct Viewer
       os << "   select " << this->Selector->GetSelectTime() * 1e3 << " ms   patch "
          << this->Patches->GetGenerateTime() * 1e3 << " ms";
     }
-    os << "   render " << this->RenderTime * 1e3 << " ms\nkeys: 1-8 modes, 0 full, +/- tolerance, h help";
+    os << "   render " << this->RenderTime * 1e3
+       << " ms\nkeys: 1-8 modes, 0 full, +/- tolerance, h help";
     return os.str();
   }
 };
@@ -278,19 +279,19 @@ int main(int argc, char* argv[])
   }
   if (!model)
   {
-    std::fprintf(stderr, "cannot read a model from '%s' (PLY, STL, OBJ, VTP or .plod)\n",
-      file.c_str());
+    std::fprintf(
+      stderr, "cannot read a model from '%s' (PLY, STL, OBJ, VTP or .plod)\n", file.c_str());
     return 1;
   }
 
   Viewer v;
   v.Builder->SetInputData(model);
   v.Builder->SetFinestLevel(level);
-  v.Selector->SetInputConnection(
-    octreeFile ? reader->GetOutputPort() : v.Builder->GetOutputPort());
+  v.Selector->SetInputConnection(octreeFile ? reader->GetOutputPort() : v.Builder->GetOutputPort());
   v.Patches->SetInputConnection(v.Selector->GetOutputPort());
   v.LODMapper->SetInputConnection(v.Patches->GetOutputPort());
-  // the full-resolution reference, smooth-shaded like the LOD (whose normals are area-weighted mean normals)
+  // the full-resolution reference, smooth-shaded like the LOD (whose normals are area-weighted mean
+  // normals)
   vtkNew<vtkPolyDataNormals> normals;
   normals->SetInputData(model);
   normals->SplittingOff();
@@ -384,7 +385,8 @@ int main(int argc, char* argv[])
   const double startDistance = camera->GetDistance();
   double bounds[6];
   model->GetBounds(bounds);
-  const double size = std::max({ bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4] });
+  const double size =
+    std::max({ bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4] });
   const int lodMode = v.Mode == 0 ? 1 : v.Mode;
   v.SetMode(lodMode);
   for (int f = 0; f < frames; ++f)

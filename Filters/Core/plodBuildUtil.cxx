@@ -105,8 +105,7 @@ namespace
 {
 double Seconds()
 {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-    .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 }
 
@@ -168,21 +167,22 @@ bool Reporter::operator()(double fraction)
     return false;
   }
   if (this->Callback &&
-    !this->Callback(this->Start + (this->End - this->Start) * std::min(1.0, std::max(0.0, fraction))))
+    !this->Callback(
+      this->Start + (this->End - this->Start) * std::min(1.0, std::max(0.0, fraction))))
   {
     this->Stopped = true;
   }
   return !this->Stopped;
 }
 
-bool PlaceRootCube(const double lo[3], const double hi[3], double origin[3], double& rootEdge,
-  std::string* why)
+bool PlaceRootCube(
+  const double lo[3], const double hi[3], double origin[3], double& rootEdge, std::string* why)
 {
   constexpr double margin = 1.0 / 32.0;
   constexpr double shift[3] = { 4.14213562e-4, 2.36067977e-4, 1.41592654e-4 };
   double extent = std::max({ hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] });
-  const double far = std::max({ std::abs(lo[0]), std::abs(hi[0]), std::abs(lo[1]),
-    std::abs(hi[1]), std::abs(lo[2]), std::abs(hi[2]) });
+  const double far = std::max({ std::abs(lo[0]), std::abs(hi[0]), std::abs(lo[1]), std::abs(hi[1]),
+    std::abs(lo[2]), std::abs(hi[2]) });
   if (!(extent > far * 1e-12) || !std::isfinite(extent))
   {
     // all points coincide (or the extent is below double resolution at that distance): give

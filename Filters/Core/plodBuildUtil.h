@@ -137,9 +137,8 @@ struct Quadric
  * clamped to [0, pi]. Returns pi when `axisValid` is false (the children's normals sum to about
  * zero: no axis bounds them better).
  */
-inline double EnclosingConeAngle(
-  const double axis[3], bool axisValid, const double (*childAxis)[3], const double* childAngle,
-  int count)
+inline double EnclosingConeAngle(const double axis[3], bool axisValid, const double (*childAxis)[3],
+  const double* childAngle, int count)
 {
   if (!axisValid)
   {
@@ -195,8 +194,8 @@ private:
 /// Runs `pfor` over [0, n) in blocks of `block` items and calls `progress(fraction of n done)`
 /// between blocks, on the calling thread; returns false as soon as progress returns false.
 template <typename Body, typename Progress>
-bool BlockedFor(int64_t n, int64_t grain, int64_t block, const ParallelFor& pfor, Body body,
-  Progress progress)
+bool BlockedFor(
+  int64_t n, int64_t grain, int64_t block, const ParallelFor& pfor, Body body, Progress progress)
 {
   for (int64_t start = 0; start < n; start += block)
   {
@@ -243,8 +242,8 @@ private:
  * point) gets an edge the coordinates can still resolve. Returns false with a message when the
  * extent is outside what single-precision storage can represent.
  */
-bool PlaceRootCube(const double lo[3], const double hi[3], double origin[3], double& rootEdge,
-  std::string* why);
+bool PlaceRootCube(
+  const double lo[3], const double hi[3], double origin[3], double& rootEdge, std::string* why);
 
 /// A number in %g notation (std::to_string prints 1e-300 as 0.000000).
 std::string FormatNumber(double x);

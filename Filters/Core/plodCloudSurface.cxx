@@ -22,10 +22,10 @@ struct Cloud
 {
   int64_t NumberOfPoints = 0;
   uint32_t Cells = 1;
-  std::vector<double> U;        // 3 per point
-  std::vector<uint64_t> Key;    // finest cell of each point, sorted
-  std::vector<int64_t> Source;  // input index of each point
-  std::vector<float> Normal;    // 3 per point, unit (0 when unknown)
+  std::vector<double> U;         // 3 per point
+  std::vector<uint64_t> Key;     // finest cell of each point, sorted
+  std::vector<int64_t> Source;   // input index of each point
+  std::vector<float> Normal;     // 3 per point, unit (0 when unknown)
   std::vector<uint64_t> CellKey; // occupied cells
   std::vector<int64_t> CellStart;
 };
@@ -61,10 +61,11 @@ void ForNeighbours(const Cloud& C, const int64_t c[3], int dlo, int dhi, Visit v
 }
 
 /// About this many candidate points (of the 27 cells around a point) enter its PCA normal, at
-/// most this many plus 27. Beyond it each cell's candidates are taken at an even stride: a cell piled with k points (duplicates,
-/// float rounding, a coarse level set by the user) would otherwise cost k^2 (measured: 65,536
-/// points, half on one spot, 26.6 s). A plane fit from 512 spread samples is as good as one
-/// from all; clouds at their automatic level hold a few points per cell and never reach it.
+/// most this many plus 27. Beyond it each cell's candidates are taken at an even stride: a cell
+/// piled with k points (duplicates, float rounding, a coarse level set by the user) would otherwise
+/// cost k^2 (measured: 65,536 points, half on one spot, 26.6 s). A plane fit from 512 spread
+/// samples is as good as one from all; clouds at their automatic level hold a few points per cell
+/// and never reach it.
 constexpr int64_t MaxNormalCandidates = 512;
 
 /// Normals by PCA over the points within one cell edge, oriented towards `target(i)`.
@@ -74,78 +75,78 @@ bool EstimateNormals(Cloud& C, const ParallelFor& pfor, Reporter& report, Target
   return BlockedFor(
     C.NumberOfPoints, 2048, int64_t(1) << 16, pfor,
     [&](int64_t b, int64_t e) {
-    for (int64_t i = b; i < e; ++i)
-    {
-      if (C.Normal[3 * i] != 0 || C.Normal[3 * i + 1] != 0 || C.Normal[3 * i + 2] != 0)
+      for (int64_t i = b; i < e; ++i)
       {
-        continue; // given
-      }
-      const double* x = &C.U[3 * i];
-      uint32_t c[3];
-      MortonDecode(C.Key[i], c);
-      // the candidate ranges of the 27 cells around the point
-      int64_t range[27][2];
-      int ranges = 0;
-      int64_t candidates = 0;
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx)
-          {
-            const int64_t u = int64_t(c[0]) + dx, v = int64_t(c[1]) + dy, w = int64_t(c[2]) + dz;
-            if (u < 0 || v < 0 || w < 0 || u >= C.Cells || v >= C.Cells || w >= C.Cells)
-            {
-              continue;
-            }
-            const int64_t ci =
-              FindKey(C.CellKey, MortonEncode(uint32_t(u), uint32_t(v), uint32_t(w)));
-            if (ci >= 0)
-            {
-              range[ranges][0] = C.CellStart[ci];
-              range[ranges][1] = C.CellStart[ci + 1];
-              candidates += range[ranges][1] - range[ranges][0];
-              ++ranges;
-            }
-          }
-      const int64_t stride = (candidates + MaxNormalCandidates - 1) / MaxNormalCandidates;
-      Eigen::Vector3d mean(0, 0, 0);
-      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-      int count = 0;
-      for (int r = 0; r < ranges; ++r)
-      {
-        // every stride-th candidate of each cell (at most MaxNormalCandidates + 27 in all)
-        for (int64_t s = range[r][0]; s < range[r][1]; s += stride)
+        if (C.Normal[3 * i] != 0 || C.Normal[3 * i + 1] != 0 || C.Normal[3 * i + 2] != 0)
         {
-          const double* y = &C.U[3 * s];
-          const Eigen::Vector3d d(y[0] - x[0], y[1] - x[1], y[2] - x[2]);
-          if (d.squaredNorm() <= 1.0)
+          continue; // given
+        }
+        const double* x = &C.U[3 * i];
+        uint32_t c[3];
+        MortonDecode(C.Key[i], c);
+        // the candidate ranges of the 27 cells around the point
+        int64_t range[27][2];
+        int ranges = 0;
+        int64_t candidates = 0;
+        for (int dz = -1; dz <= 1; ++dz)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+            {
+              const int64_t u = int64_t(c[0]) + dx, v = int64_t(c[1]) + dy, w = int64_t(c[2]) + dz;
+              if (u < 0 || v < 0 || w < 0 || u >= C.Cells || v >= C.Cells || w >= C.Cells)
+              {
+                continue;
+              }
+              const int64_t ci =
+                FindKey(C.CellKey, MortonEncode(uint32_t(u), uint32_t(v), uint32_t(w)));
+              if (ci >= 0)
+              {
+                range[ranges][0] = C.CellStart[ci];
+                range[ranges][1] = C.CellStart[ci + 1];
+                candidates += range[ranges][1] - range[ranges][0];
+                ++ranges;
+              }
+            }
+        const int64_t stride = (candidates + MaxNormalCandidates - 1) / MaxNormalCandidates;
+        Eigen::Vector3d mean(0, 0, 0);
+        Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+        int count = 0;
+        for (int r = 0; r < ranges; ++r)
+        {
+          // every stride-th candidate of each cell (at most MaxNormalCandidates + 27 in all)
+          for (int64_t s = range[r][0]; s < range[r][1]; s += stride)
           {
-            mean += d;
-            cov += d * d.transpose();
-            ++count;
+            const double* y = &C.U[3 * s];
+            const Eigen::Vector3d d(y[0] - x[0], y[1] - x[1], y[2] - x[2]);
+            if (d.squaredNorm() <= 1.0)
+            {
+              mean += d;
+              cov += d * d.transpose();
+              ++count;
+            }
           }
         }
+        double t[3];
+        target(i, t);
+        Eigen::Vector3d nrm(t[0], t[1], t[2]);
+        if (count >= 3)
+        {
+          mean /= count;
+          cov = cov / count - mean * mean.transpose();
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+          eig.computeDirect(cov);
+          nrm = eig.eigenvectors().col(0);
+        }
+        nrm = nrm.norm() > 0 ? nrm.normalized() : Eigen::Vector3d(0, 0, 1);
+        if (nrm[0] * t[0] + nrm[1] * t[1] + nrm[2] * t[2] < 0)
+        {
+          nrm = -nrm;
+        }
+        for (int a = 0; a < 3; ++a)
+        {
+          C.Normal[3 * i + a] = static_cast<float>(nrm[a]);
+        }
       }
-      double t[3];
-      target(i, t);
-      Eigen::Vector3d nrm(t[0], t[1], t[2]);
-      if (count >= 3)
-      {
-        mean /= count;
-        cov = cov / count - mean * mean.transpose();
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-        eig.computeDirect(cov);
-        nrm = eig.eigenvectors().col(0);
-      }
-      nrm = nrm.norm() > 0 ? nrm.normalized() : Eigen::Vector3d(0, 0, 1);
-      if (nrm[0] * t[0] + nrm[1] * t[1] + nrm[2] * t[2] < 0)
-      {
-        nrm = -nrm;
-      }
-      for (int a = 0; a < 3; ++a)
-      {
-        C.Normal[3 * i + a] = static_cast<float>(nrm[a]);
-      }
-    }
     },
     [&](double f) { return report(f); });
 }
@@ -231,42 +232,42 @@ std::vector<Crossing> SignChanges(const Cloud& C, const ParallelFor& pfor, Repor
   {
     return {};
   }
-  return ChunkedGather<Crossing>(nk, 4096, pfor, [&](int64_t b, int64_t e, std::vector<Crossing>& out) {
-    for (int64_t i = b; i < e; ++i)
-    {
-      const CornerValue& v0 = values[i];
-      if (v0.Source < 0)
+  return ChunkedGather<Crossing>(
+    nk, 4096, pfor, [&](int64_t b, int64_t e, std::vector<Crossing>& out) {
+      for (int64_t i = b; i < e; ++i)
       {
-        continue;
-      }
-      uint32_t c[3];
-      MortonDecode(cornerKeys[i], c);
-      for (int a = 0; a < 3; ++a)
-      {
-        const int p = (a + 1) % 3, q = (a + 2) % 3;
-        if (c[p] == 0 || c[q] == 0 || c[a] + 1 >= C.Cells)
-        {
-          continue; // edges on the root boundary are never crossed
-        }
-        uint32_t d[3] = { c[0], c[1], c[2] };
-        ++d[a];
-        const int64_t j = FindKey(cornerKeys, MortonEncode(d[0], d[1], d[2]));
-        if (j < 0 || values[j].Source < 0)
+        const CornerValue& v0 = values[i];
+        if (v0.Source < 0)
         {
           continue;
         }
-        const CornerValue& v1 = values[j];
-        const bool in0 = v0.F < 0, in1 = v1.F < 0;
-        if (in0 == in1)
+        uint32_t c[3];
+        MortonDecode(cornerKeys[i], c);
+        for (int a = 0; a < 3; ++a)
         {
-          continue;
+          const int p = (a + 1) % 3, q = (a + 2) % 3;
+          if (c[p] == 0 || c[q] == 0 || c[a] + 1 >= C.Cells)
+          {
+            continue; // edges on the root boundary are never crossed
+          }
+          uint32_t d[3] = { c[0], c[1], c[2] };
+          ++d[a];
+          const int64_t j = FindKey(cornerKeys, MortonEncode(d[0], d[1], d[2]));
+          if (j < 0 || values[j].Source < 0)
+          {
+            continue;
+          }
+          const CornerValue& v1 = values[j];
+          const bool in0 = v0.F < 0, in1 = v1.F < 0;
+          if (in0 == in1)
+          {
+            continue;
+          }
+          const double t = std::min(1.0 - 1e-7, std::max(0.0, v0.F / (v0.F - v1.F)));
+          out.push_back({ cornerKeys[i], t, a, in0 ? 1 : -1, t < 0.5 ? v0.Source : v1.Source });
         }
-        const double t = std::min(1.0 - 1e-7, std::max(0.0, v0.F / (v0.F - v1.F)));
-        out.push_back(
-          { cornerKeys[i], t, a, in0 ? 1 : -1, t < 0.5 ? v0.Source : v1.Source });
       }
-    }
-  });
+    });
 }
 
 } // namespace
@@ -400,8 +401,7 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
     if (in.PointNormals)
     {
       const float* g = in.PointNormals + 3 * i;
-      const double len =
-        std::sqrt(double(g[0]) * g[0] + double(g[1]) * g[1] + double(g[2]) * g[2]);
+      const double len = std::sqrt(double(g[0]) * g[0] + double(g[1]) * g[1] + double(g[2]) * g[2]);
       if (len > 0 && std::isfinite(len))
       {
         for (int a = 0; a < 3; ++a)
@@ -500,8 +500,7 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
   const int64_t nv = static_cast<int64_t>(vertexKey.size());
   std::vector<double> sum(3 * nv, 0.0), nsum(3 * nv, 0.0);
   std::vector<int> count(nv, 0);
-  const bool material =
-    in.PointDiffuse || in.PointSpecular; // clouds carry material per point only
+  const bool material = in.PointDiffuse || in.PointSpecular; // clouds carry material per point only
   if (in.PointDiffuse)
   {
     out.DiffuseMin.assign(nv, std::numeric_limits<float>::max());

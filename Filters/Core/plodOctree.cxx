@@ -37,8 +37,8 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
     return fail("an octree array is missing");
   }
   if (!(v.RootEdge > 0) || !std::isfinite(v.RootEdge) || v.FinestLevel < 0 ||
-    v.FinestLevel > MaxFinestLevel || !std::isfinite(v.Origin[0]) ||
-    !std::isfinite(v.Origin[1]) || !std::isfinite(v.Origin[2]))
+    v.FinestLevel > MaxFinestLevel || !std::isfinite(v.Origin[0]) || !std::isfinite(v.Origin[1]) ||
+    !std::isfinite(v.Origin[2]))
   {
     return fail("invalid root cube or finest level");
   }
@@ -90,9 +90,9 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
     {
       return fail(node + " is below the finest level");
     }
-    if (v.FirstPoint[i] < 0 || v.FirstPoint[i] > v.NumberOfPoints ||
-      v.FirstTriangle[i] < 0 || v.FirstTriangle[i] > v.NumberOfTriangles ||
-      v.FirstCluster[i] < 0 || v.FirstCluster[i] >= v.NumberOfClusters)
+    if (v.FirstPoint[i] < 0 || v.FirstPoint[i] > v.NumberOfPoints || v.FirstTriangle[i] < 0 ||
+      v.FirstTriangle[i] > v.NumberOfTriangles || v.FirstCluster[i] < 0 ||
+      v.FirstCluster[i] >= v.NumberOfClusters)
     {
       return fail(node + " has a point or triangle range outside the arrays");
     }
@@ -121,8 +121,8 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
       {
         if (v.Parent[first + c] != i)
         {
-          return fail("child " + std::to_string(first + c) + " does not point back to " +
-            std::to_string(i));
+          return fail(
+            "child " + std::to_string(first + c) + " does not point back to " + std::to_string(i));
         }
       }
       if (v.FirstPoint[first] != v.FirstPoint[i])
@@ -136,8 +136,9 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
       !std::isfinite(v.ConeAxis[3 * i + 2]) || !(v.ShapeError[i] >= 0.0f) ||
       !(v.Thickness[i] >= 0.0f))
     {
-      return fail(node + " has a non-finite vertex or axis, a cone angle outside [0, pi] or a "
-                         "negative shape error or thickness");
+      return fail(node +
+        " has a non-finite vertex or axis, a cone angle outside [0, pi] or a "
+        "negative shape error or thickness");
     }
   }
   // every node but the root is some node's child: the listed children point back to their
@@ -169,9 +170,9 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
         return fail("cluster " + std::to_string(c) + " is in node " + std::to_string(i) +
           "'s range but names node " + std::to_string(v.ClusterNode[c]));
       }
-      if (i == 0 ? parent != -1
-                 : (parent < 0 || parent >= v.NumberOfClusters ||
-                     v.ClusterNode[parent] != v.Parent[i]))
+      if (i == 0
+          ? parent != -1
+          : (parent < 0 || parent >= v.NumberOfClusters || v.ClusterNode[parent] != v.Parent[i]))
       {
         return fail("cluster " + std::to_string(c) + " has parent " + std::to_string(parent) +
           ", not a cluster of its node's parent");
@@ -205,8 +206,7 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
     if (v.Triangles[t] < 0 || v.Triangles[t] >= v.NumberOfPoints)
     {
       return fail("triangle " + std::to_string(t / 3) + " refers to point " +
-        std::to_string(v.Triangles[t]) + ", outside [0, " + std::to_string(v.NumberOfPoints) +
-        ")");
+        std::to_string(v.Triangles[t]) + ", outside [0, " + std::to_string(v.NumberOfPoints) + ")");
     }
   }
   return true;

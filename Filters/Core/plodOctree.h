@@ -128,15 +128,13 @@ struct OctreeView
   /// One past the last cluster of `node`.
   int64_t ClusterEnd(int64_t node) const
   {
-    return node + 1 < this->NumberOfNodes ? this->FirstCluster[node + 1]
-                                          : this->NumberOfClusters;
+    return node + 1 < this->NumberOfNodes ? this->FirstCluster[node + 1] : this->NumberOfClusters;
   }
 
   /// One past the last triangle owned by `node`.
   int64_t TriangleEnd(int64_t node) const
   {
-    return node + 1 < this->NumberOfNodes ? this->FirstTriangle[node + 1]
-                                          : this->NumberOfTriangles;
+    return node + 1 < this->NumberOfNodes ? this->FirstTriangle[node + 1] : this->NumberOfTriangles;
   }
 
   /// Index of child `c` of `node`, or -1 when that child does not exist.

@@ -101,8 +101,7 @@ int ChooseFinestLevel(const int64_t cells[MaxFinestLevel + 1], int64_t points, i
           "points";
   }
   const int wanted = level;
-  while (level > 0 &&
-    EstimateBuildMemory(points, triangles, nodesUpTo(level), cloud) > memoryLimit)
+  while (level > 0 && EstimateBuildMemory(points, triangles, nodesUpTo(level), cloud) > memoryLimit)
   {
     --level;
   }
@@ -277,9 +276,8 @@ void ShadingNormal(const CellSums& s, float out[3])
     if (sign == 0)
     {
       // exactly cancelling: a fixed choice, the largest component positive
-      const int big = std::abs(e[0]) >= std::abs(e[1])
-        ? (std::abs(e[0]) >= std::abs(e[2]) ? 0 : 2)
-        : (std::abs(e[1]) >= std::abs(e[2]) ? 1 : 2);
+      const int big = std::abs(e[0]) >= std::abs(e[1]) ? (std::abs(e[0]) >= std::abs(e[2]) ? 0 : 2)
+                                                       : (std::abs(e[1]) >= std::abs(e[2]) ? 1 : 2);
       sign = e[big];
     }
     for (int a = 0; a < 3; ++a)
@@ -329,10 +327,9 @@ public:
   bool Run()
   {
     return this->Scan() && this->PlaceRoot() && this->SortPoints() && this->ChooseLevel() &&
-      this->MakeTree() && this->StoreSurface() && this->MakeIncidence() &&
-      this->ComputeNormals() && this->MakeEdges() && this->MakeClusters() &&
-      this->FindPassingTriangles() && this->ComputeCells() && this->TightenCones() &&
-      this->ComputeShapeErrors() && this->Finish();
+      this->MakeTree() && this->StoreSurface() && this->MakeIncidence() && this->ComputeNormals() &&
+      this->MakeEdges() && this->MakeClusters() && this->FindPassingTriangles() &&
+      this->ComputeCells() && this->TightenCones() && this->ComputeShapeErrors() && this->Finish();
   }
 
 private:
@@ -498,8 +495,8 @@ bool MeshBuild::Scan()
     for (int64_t t = start, end = std::min(nt, start + Block); t < end; ++t)
     {
       const int64_t a = this->S.T(t, 0), b = this->S.T(t, 1), c = this->S.T(t, 2);
-      if (a < 0 || b < 0 || c < 0 || a >= np || b >= np || c >= np || !finite[a] ||
-        !finite[b] || !finite[c])
+      if (a < 0 || b < 0 || c < 0 || a >= np || b >= np || c >= np || !finite[a] || !finite[b] ||
+        !finite[c])
       {
         ++invalid;
         continue;
@@ -688,10 +685,8 @@ bool MeshBuild::ChooseLevel()
     if (need > this->Params.MemoryLimit)
     {
       return this->Fail("the point cloud's surface at level " + std::to_string(this->L) +
-        " would need about " + Megabytes(need) +
-        " MB, above the memory limit of " +
-        Megabytes(this->Params.MemoryLimit) +
-        " MB; lower the finest level or raise the limit");
+        " would need about " + Megabytes(need) + " MB, above the memory limit of " +
+        Megabytes(this->Params.MemoryLimit) + " MB; lower the finest level or raise the limit");
     }
   }
   else if (this->Params.FinestLevel >= 0)
@@ -702,8 +697,7 @@ bool MeshBuild::ChooseLevel()
     if (need > this->Params.MemoryLimit)
     {
       return this->Fail("finest level " + std::to_string(this->L) + " would need about " +
-        Megabytes(need) + " MB, above the memory limit of " +
-        Megabytes(this->Params.MemoryLimit) +
+        Megabytes(need) + " MB, above the memory limit of " + Megabytes(this->Params.MemoryLimit) +
         " MB; lower the finest level or raise the limit");
     }
   }
@@ -716,11 +710,9 @@ bool MeshBuild::ChooseLevel()
     const double need = EstimateBuildMemory(this->Points, this->Kept, nodesUpTo(this->L), false);
     if (need > this->Params.MemoryLimit)
     {
-      return this->Fail("the model needs about " +
-        Megabytes(need) + " MB even at level " +
+      return this->Fail("the model needs about " + Megabytes(need) + " MB even at level " +
         std::to_string(this->L) + ", above the memory limit of " +
-        Megabytes(this->Params.MemoryLimit) +
-        " MB; raise the limit");
+        Megabytes(this->Params.MemoryLimit) + " MB; raise the limit");
     }
     if (reason.rfind("lowered", 0) == 0)
     {
@@ -1221,8 +1213,8 @@ void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out
               auto it = std::lower_bound(level.begin(), level.end(), k);
               if (it != level.end() && *it == k)
               {
-                out.emplace_back(
-                  static_cast<int32_t>(this->Offset[l] + (it - level.begin())), static_cast<int32_t>(t));
+                out.emplace_back(static_cast<int32_t>(this->Offset[l] + (it - level.begin())),
+                  static_cast<int32_t>(t));
                 break;
               }
             }
@@ -1252,8 +1244,7 @@ void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out
       {
         if (l + 1 < this->L)
         {
-          stack[top++] =
-            this->Out.FirstChild[node] + __builtin_popcount(mask & ((1u << ci) - 1u));
+          stack[top++] = this->Out.FirstChild[node] + __builtin_popcount(mask & ((1u << ci) - 1u));
         }
         continue; // a leaf holding a corner counts the triangle through its points
       }
@@ -1510,8 +1501,9 @@ bool MeshBuild::MakeClusters()
       for (int c = 0; c < children; ++c)
       {
         const int64_t ch = o.FirstChild[n] + c;
-        const int32_t end = ch + 1 < this->Offset[l + 2] ? firstLocal[ch + 1]
-                                                         : static_cast<int32_t>(repPoint[l + 1].size());
+        const int32_t end = ch + 1 < this->Offset[l + 2]
+          ? firstLocal[ch + 1]
+          : static_cast<int32_t>(repPoint[l + 1].size());
         for (int32_t k = firstLocal[ch]; k < end; ++k)
         {
           const int32_t r = find(repPoint[l + 1][k]);
@@ -1561,10 +1553,9 @@ bool MeshBuild::MakeClusters()
       for (int64_t c = o.FirstCluster[n]; c < end; ++c)
       {
         o.ClusterNode[c] = static_cast<int32_t>(n);
-        o.ClusterParent[c] = l == 0
-          ? -1
-          : static_cast<int32_t>(
-              this->ClusterOffset[l - 1] + parentLocal[l][c - this->ClusterOffset[l]]);
+        o.ClusterParent[c] = l == 0 ? -1
+                                    : static_cast<int32_t>(this->ClusterOffset[l - 1] +
+                                        parentLocal[l][c - this->ClusterOffset[l]]);
       }
     }
   }
@@ -1580,8 +1571,8 @@ bool MeshBuild::MakeClusters()
   int64_t unsafe = 0;
   for (int64_t n = 0; n < this->Nodes; ++n)
   {
-    o.Flags[n] = static_cast<uint8_t>((o.Flags[n] & NodeBoundary) |
-      (delta[n] == 0 ? NodeTopologySafe : 0));
+    o.Flags[n] =
+      static_cast<uint8_t>((o.Flags[n] & NodeBoundary) | (delta[n] == 0 ? NodeTopologySafe : 0));
     unsafe += delta[n] == 0 ? 0 : 1;
   }
   this->R.NumberOfUnsafeNodes = unsafe;
@@ -1671,8 +1662,8 @@ bool MeshBuild::ComputeCells()
   auto leafCell = [&](int64_t leaf, std::vector<CellSums>& sums,
                     std::vector<std::array<double, 3>>& normals) {
     const int64_t cf = o.FirstCluster[leaf];
-    const int count = static_cast<int>(
-      (leaf + 1 < this->Nodes ? o.FirstCluster[leaf + 1] : leafClustersEnd) - cf);
+    const int count =
+      static_cast<int>((leaf + 1 < this->Nodes ? o.FirstCluster[leaf + 1] : leafClustersEnd) - cf);
     sums.assign(count, CellSums());
     Range d, sp;
     normals.clear();
@@ -1971,8 +1962,7 @@ bool MeshBuild::ComputeShapeErrors()
       {
         const int64_t n = base + i;
         const int64_t cf = o.FirstCluster[n];
-        const int64_t ce =
-          n + 1 < this->Nodes ? o.FirstCluster[n + 1] : this->ClusterOffset[L + 1];
+        const int64_t ce = n + 1 < this->Nodes ? o.FirstCluster[n + 1] : this->ClusterOffset[L + 1];
         lo.assign(ce - cf, std::numeric_limits<double>::max());
         hi.assign(ce - cf, -std::numeric_limits<double>::max());
         for (int64_t p = o.FirstPoint[n], end = this->PointEnd(n); p < end; ++p)
@@ -2024,8 +2014,8 @@ BuildResult BuildOctree(const BuildInput& in, const BuildParameters& params,
   }
   if (params.FinestLevel > MaxFinestLevel)
   {
-    result.Error = "finest level " + std::to_string(params.FinestLevel) +
-      " is above the maximum " + std::to_string(MaxFinestLevel);
+    result.Error = "finest level " + std::to_string(params.FinestLevel) + " is above the maximum " +
+      std::to_string(MaxFinestLevel);
     return result;
   }
   if (!(params.MemoryLimit > 0))

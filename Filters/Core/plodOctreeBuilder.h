@@ -44,7 +44,8 @@
  * 3. points sorted by Morton key at level 21; the finest level chosen (see ChooseFinestLevel);
  * 4. tree: one leaf per occupied finest cell, parents up to the root; point ranges;
  * 5. surface: points, triangles sorted by owner node (the deepest node holding two of its
- *    corners, where it collapses), point-to-triangle incidence, shading normals (the input's, or area-weighted);
+ *    corners, where it collapses), point-to-triangle incidence, shading normals (the input's, or
+ * area-weighted);
  * 6. edges: every unique edge once; boundary and non-manifold edges counted; boundary planes;
  * 7. clusters: per level, union-find over the edges inside each cell; a cluster per connected
  *    piece; topology flags (Euler characteristic equal to the number of pieces: a union of
@@ -175,15 +176,15 @@ struct BuildResult
   std::string LevelReason;
   double Origin[3] = { 0, 0, 0 };
   double RootEdge = 1;
-  int64_t NumberOfPoints = 0;    // surface points kept
-  int64_t NumberOfTriangles = 0; // surface triangles kept
+  int64_t NumberOfPoints = 0;              // surface points kept
+  int64_t NumberOfTriangles = 0;           // surface triangles kept
   int64_t NumberOfInvalidTriangles = 0;    // an index out of range or a non-finite corner
   int64_t NumberOfDegenerateTriangles = 0; // a point repeated
   int64_t NumberOfNonFinitePoints = 0;
-  int64_t NumberOfUnsafeNodes = 0; // nodes without NodeTopologySafe
+  int64_t NumberOfUnsafeNodes = 0;      // nodes without NodeTopologySafe
   int64_t NumberOfBoundaryEdges = 0;    // edges used by one triangle
   int64_t NumberOfNonManifoldEdges = 0; // edges used by more than two
-  double EstimatedBytes = 0;       // estimated peak of the build's own memory
+  double EstimatedBytes = 0;            // estimated peak of the build's own memory
 };
 
 /// Estimated peak bytes of a build's own memory (outputs and work arrays, not the input).

@@ -183,8 +183,8 @@ void ForEachArray(OctreeView& v, F f)
   f(v.Triangles);
 }
 
-int64_t TuplesOf(FileArrayGroup group, int64_t nodes, int64_t clusters, int64_t points,
-  int64_t triangles)
+int64_t TuplesOf(
+  FileArrayGroup group, int64_t nodes, int64_t clusters, int64_t points, int64_t triangles)
 {
   return group == FileArrayGroup::Node ? nodes
     : group == FileArrayGroup::Cluster ? clusters
@@ -205,8 +205,8 @@ std::vector<FileArray> FileArraysOf(const OctreeView& view)
     f.Group = spec.Group;
     f.Type = spec.Type;
     f.Components = spec.Components;
-    f.Tuples =
-      TuplesOf(spec.Group, v.NumberOfNodes, v.NumberOfClusters, v.NumberOfPoints, v.NumberOfTriangles);
+    f.Tuples = TuplesOf(
+      spec.Group, v.NumberOfNodes, v.NumberOfClusters, v.NumberOfPoints, v.NumberOfTriangles);
     f.Data = pointer;
     arrays.push_back(f);
   });
@@ -252,7 +252,8 @@ bool MatchSchema(const OctreeFile& file, std::vector<const FileArray*>& arrays, 
     if (!match || match->Type != spec.Type || match->Components != spec.Components)
     {
       arrays.clear();
-      return Fail(why, std::string("the array '") + spec.Name +
+      return Fail(why,
+        std::string("the array '") + spec.Name +
           (match ? "' has the wrong type or components" : "' is missing"));
     }
     arrays.push_back(match);
@@ -412,8 +413,8 @@ bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
   return true;
 }
 
-bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out,
-  std::string* error)
+bool OpenOctreeFile(
+  const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out, std::string* error)
 {
   out = OctreeFile();
   const std::string where = path + ": ";
@@ -430,7 +431,8 @@ bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile,
   const uint64_t size = static_cast<uint64_t>(st.st_size);
   if (size < HeaderBytes)
   {
-    return Fail(error, where + "too short for an octree file (" + std::to_string(size) +
+    return Fail(error,
+      where + "too short for an octree file (" + std::to_string(size) +
         " bytes; the header alone is 128)");
   }
   // the bytes: a private (copy-on-write) map, or a buffer read from the file
@@ -473,7 +475,8 @@ bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile,
   const uint32_t version = Get<uint32_t>(bytes + 8);
   if (version != Version)
   {
-    return Fail(error, where + "octree file format version " + std::to_string(version) +
+    return Fail(error,
+      where + "octree file format version " + std::to_string(version) +
         "; this reader knows version " + std::to_string(Version));
   }
   if (Get<uint32_t>(bytes + 12) != ByteOrderMark)
@@ -484,7 +487,8 @@ bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile,
   const uint32_t count = Get<uint32_t>(bytes + 20);
   if (count > MaxArrays || headerSize != HeaderBytes + EntryBytes * count || headerSize > size)
   {
-    return Fail(error, where + "corrupt header (" + std::to_string(count) + " arrays, header of " +
+    return Fail(error,
+      where + "corrupt header (" + std::to_string(count) + " arrays, header of " +
         std::to_string(headerSize) + " bytes in a file of " + std::to_string(size) + ")");
   }
   if (Get<uint32_t>(bytes + 120) != HeaderChecksum(bytes, headerSize))
@@ -494,7 +498,8 @@ bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile,
   const uint64_t statedSize = Get<uint64_t>(bytes + 112);
   if (statedSize != size)
   {
-    return Fail(error, where + (size < statedSize ? "truncated" : "longer than written") + ": " +
+    return Fail(error,
+      where + (size < statedSize ? "truncated" : "longer than written") + ": " +
         std::to_string(size) + " bytes, the header says " + std::to_string(statedSize));
   }
   OctreeFileHeader& h = out.Header;
@@ -514,9 +519,9 @@ bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile,
   const int64_t maxIndex = std::numeric_limits<int32_t>::max();
   if (!(std::isfinite(h.Origin[0]) && std::isfinite(h.Origin[1]) && std::isfinite(h.Origin[2]) &&
         std::isfinite(h.RootEdge) && h.RootEdge > 0) ||
-    h.FinestLevel < 0 || h.FinestLevel > 21 || h.Nodes < 0 || h.Nodes > maxIndex ||
-    h.Points < 0 || h.Points > maxIndex || h.Triangles < 0 || h.Triangles > maxIndex ||
-    h.Clusters < 0 || h.Clusters > maxIndex || h.BoundaryEdges < 0 || h.NonManifoldEdges < 0)
+    h.FinestLevel < 0 || h.FinestLevel > 21 || h.Nodes < 0 || h.Nodes > maxIndex || h.Points < 0 ||
+    h.Points > maxIndex || h.Triangles < 0 || h.Triangles > maxIndex || h.Clusters < 0 ||
+    h.Clusters > maxIndex || h.BoundaryEdges < 0 || h.NonManifoldEdges < 0)
   {
     return Fail(error, where + "corrupt header (root cube, level or counts out of range)");
   }
@@ -546,17 +551,18 @@ bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile,
     const int64_t expected[4] = { h.Nodes, h.Clusters, h.Points, h.Triangles };
     if (f.Tuples != expected[group])
     {
-      return Fail(error, at + "'" + f.Name + "' has " + std::to_string(f.Tuples) +
-          " tuples where its group has " + std::to_string(expected[group]));
+      return Fail(error,
+        at + "'" + f.Name + "' has " + std::to_string(f.Tuples) + " tuples where its group has " +
+          std::to_string(expected[group]));
     }
     const uint64_t length =
       uint64_t(f.Tuples) * uint64_t(f.Components) * uint64_t(FileTypeSize(f.Type));
     if (length > 0 &&
       (offset % Alignment != 0 || offset < headerSize || offset > size || length > size - offset))
     {
-      return Fail(error, at + "'" + f.Name + "' lies outside the file (offset " +
-          std::to_string(offset) + ", " + std::to_string(length) + " bytes, file of " +
-          std::to_string(size) + ")");
+      return Fail(error,
+        at + "'" + f.Name + "' lies outside the file (offset " + std::to_string(offset) + ", " +
+          std::to_string(length) + " bytes, file of " + std::to_string(size) + ")");
     }
     if (length > 0)
     {

@@ -22,7 +22,9 @@
  * | 112 | 8 | file size in bytes |
  * | 120 | 4 | checksum of the header and directory (this field counted as 0) |
  * | 124 | 4 | reserved (0) |
- * | 128 | 64 each | directory: name (32 bytes, NUL-padded), group (1: 0 node, 1 cluster, 2 surface point, 3 surface triangle), type (1: uint8, 2: int32, 3: float32, 4: int64), components (uint16), reserved (4), tuples (int64), offset (uint64), checksum of the data (uint64) |
+ * | 128 | 64 each | directory: name (32 bytes, NUL-padded), group (1: 0 node, 1 cluster, 2 surface
+ * point, 3 surface triangle), type (1: uint8, 2: int32, 3: float32, 4: int64), components (uint16),
+ * reserved (4), tuples (int64), offset (uint64), checksum of the data (uint64) |
  *
  * Each array's data starts at a multiple of 4096 bytes (so that it can be mapped in place) and
  * holds tuples x components values. The checksums are 64-bit FNV-1a over 8-byte words (the
@@ -126,8 +128,8 @@ struct OctreeFile
  * False with `error` set (what is wrong, and where) on a missing, truncated, corrupt or foreign
  * file.
  */
-bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out,
-  std::string* error);
+bool OpenOctreeFile(
+  const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out, std::string* error);
 
 /// The schema's arrays of an octree, in OctreeFileSchema() order, pointing into `v` (to write).
 std::vector<FileArray> FileArraysOf(const OctreeView& v);

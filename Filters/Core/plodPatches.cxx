@@ -45,8 +45,7 @@ struct Drawn
   {
     for (int k = 0; k < 3; ++k)
     {
-      if (this->F[0] * this->N[k][0] + this->F[1] * this->N[k][1] + this->F[2] * this->N[k][2] >=
-        0)
+      if (this->F[0] * this->N[k][0] + this->F[1] * this->N[k][1] + this->F[2] * this->N[k][2] >= 0)
       {
         return false;
       }

@@ -96,7 +96,7 @@ struct PatchWorkspace
   std::vector<int32_t> Touched;  // nodes whose entries must be cleared
   std::vector<int32_t> TouchedClusters;
   std::vector<int32_t> Stack;
-  std::vector<int32_t> Refined;  // nodes whose owned triangles are drawn
+  std::vector<int32_t> Refined; // nodes whose owned triangles are drawn
 };
 
 /**

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "plodSelector.h"
 
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -119,18 +118,17 @@ bool ValidateSelectionInput(const SelectionInput& in, std::string* why)
   {
     return fail("the screen distance (or pixels per unit) must be positive and finite");
   }
-  if (in.Parallel && !(Dot(in.ProjectionDirection, in.ProjectionDirection) > 0 &&
-                       Finite(in.ProjectionDirection, 3)))
+  if (in.Parallel &&
+    !(Dot(in.ProjectionDirection, in.ProjectionDirection) > 0 && Finite(in.ProjectionDirection, 3)))
   {
     return fail("the projection direction is not a finite non-zero vector");
   }
-  if (!(in.ContourTolerance >= 0) || !(in.BrightnessTolerance >= 0) ||
-    !(in.TopologyTolerance >= 0))
+  if (!(in.ContourTolerance >= 0) || !(in.BrightnessTolerance >= 0) || !(in.TopologyTolerance >= 0))
   {
     return fail("tolerances must be non-negative numbers");
   }
-  if (!(in.SpecularPower >= 0) || !std::isfinite(in.SpecularPower) ||
-    !std::isfinite(in.Diffuse) || !std::isfinite(in.Specular))
+  if (!(in.SpecularPower >= 0) || !std::isfinite(in.SpecularPower) || !std::isfinite(in.Diffuse) ||
+    !std::isfinite(in.Specular))
   {
     return fail("material values must be finite (specular power >= 0)");
   }
@@ -177,8 +175,8 @@ void Selector::SetOctree(const OctreeView& view)
   this->Previous.clear();
 }
 
-void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
-  uint8_t* cullMask, SelectionStats& stats)
+void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason, uint8_t* cullMask,
+  SelectionStats& stats)
 {
   const OctreeView& v = this->View;
   stats = SelectionStats();
@@ -364,9 +362,8 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
         }
         const double c[3] = { r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2],
           r[0] * f[1] - r[1] * f[0] };
-        const double beta = (Dot(r, r) > 0 && Dot(f, f) > 0)
-          ? std::atan2(std::sqrt(Dot(c, c)), Dot(r, f))
-          : 0.0;
+        const double beta =
+          (Dot(r, r) > 0 && Dot(f, f) > 0) ? std::atan2(std::sqrt(Dot(c, c)), Dot(r, f)) : 0.0;
         D = in.FoveationWeights[0] * beta / Pi +
           in.FoveationWeights[1] * std::abs(y - fy) / in.FoveationHeight;
       }
@@ -566,8 +563,8 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
           if (hl > 0)
           {
             const double cb = Dot(axis, hv) / hl;
-            ConeCosineRange(cb, std::sqrt(std::max(0.0, 1 - cb * cb)), cosT, sinT,
-              in.SpecularPower, high, low);
+            ConeCosineRange(
+              cb, std::sqrt(std::max(0.0, 1 - cb * cb)), cosT, sinT, in.SpecularPower, high, low);
           }
           dB += BrightnessChange(MsMin, MsMax, l.Specular, high, low);
         }

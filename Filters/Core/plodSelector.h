@@ -118,14 +118,14 @@ enum class FoveationMode
 /// Why a node is in the cut (node array "CutReason").
 enum CutReason : uint8_t
 {
-  ReasonNone = 0,       // not in the cut
-  AcceptedContour = 1,  // on the contour: contour and brightness tests passed
+  ReasonNone = 0,         // not in the cut
+  AcceptedContour = 1,    // on the contour: contour and brightness tests passed
   AcceptedBrightness = 2, // front-facing: brightness test passed
-  OpenedLeaf = 3,       // a leaf that failed a test: drawn at full resolution (CutOpen)
-  Culled = 4,           // outside the view frustum (hidden)
-  BackFacing = 5,       // whole cone facing away (hidden)
-  AcceptedError = 6,    // SCVC, PSEC or Distance test passed
-  AcceptedSize = 7      // its edge projects within the contour tolerance
+  OpenedLeaf = 3,         // a leaf that failed a test: drawn at full resolution (CutOpen)
+  Culled = 4,             // outside the view frustum (hidden)
+  BackFacing = 5,         // whole cone facing away (hidden)
+  AcceptedError = 6,      // SCVC, PSEC or Distance test passed
+  AcceptedSize = 7        // its edge projects within the contour tolerance
 };
 
 /// A light in the octree's local coordinates (relative to its origin).
@@ -175,13 +175,13 @@ struct SelectionInput
   double PSECFactor = 0.25;
   int DistanceLevel = 0;
 
-  double FoveationRate = 0;            // K
-  double FoveationPoint[3] = { 0, 0, 0 }; // object mode: point of interest
-  double FoveationUp[3] = { 0, 1, 0 };    // object mode: unit vertical axis
+  double FoveationRate = 0;                // K
+  double FoveationPoint[3] = { 0, 0, 0 };  // object mode: point of interest
+  double FoveationUp[3] = { 0, 1, 0 };     // object mode: unit vertical axis
   double FoveationCentre[3] = { 0, 0, 0 }; // object mode: a point of the vertical axis
-  double FoveationHeight = 1;             // object mode: H
-  double FoveationWeights[2] = { 1, 1 };  // w_h, w_v
-  double GazeDirection[3] = { 0, 0, -1 }; // screen mode: unit gaze ray from the eye
+  double FoveationHeight = 1;              // object mode: H
+  double FoveationWeights[2] = { 1, 1 };   // w_h, w_v
+  double GazeDirection[3] = { 0, 0, -1 };  // screen mode: unit gaze ray from the eye
 };
 
 struct SelectionStats
@@ -189,7 +189,7 @@ struct SelectionStats
   int64_t Visited = 0;
   int64_t InCut = 0;
   int64_t Drawn = 0;
-  int64_t Opened = 0;        // leaves drawn at full resolution
+  int64_t Opened = 0;          // leaves drawn at full resolution
   int64_t TopologyRefined = 0; // cells refined only because they are not topologically safe
 };
 

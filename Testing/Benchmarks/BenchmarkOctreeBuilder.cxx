@@ -57,8 +57,8 @@ vtkPolyData* GetModel(int model)
   }
   else if (!dir.empty())
   {
-    pd = model == BUNNY ? plodtest::ReadPLY(dir + "/bun_zipper.ply")
-                        : plodtest::ReadBunnyScans(dir);
+    pd =
+      model == BUNNY ? plodtest::ReadPLY(dir + "/bun_zipper.ply") : plodtest::ReadBunnyScans(dir);
   }
   cache[model] = pd;
   return pd;
@@ -66,8 +66,8 @@ vtkPolyData* GetModel(int model)
 
 const char* ModelName(int model)
 {
-  return model == BUNNY ? "bunny"
-    : model == SCANS    ? "scans"
+  return model == BUNNY  ? "bunny"
+    : model == SCANS     ? "scans"
     : model == GENERATED ? "generated1M"
                          : "generated1M default level";
 }
@@ -106,10 +106,11 @@ void BM_Build(benchmark::State& state)
     state.SetIterationTime(builder->GetBuildTime());
   }
   vtkMultiscaleOctree* o = builder->GetOutput();
-  const double elements = model == SCANS ? input->GetNumberOfPoints()
-                                         : static_cast<double>(builder->GetNumberOfInputTriangles());
-  state.counters["Mtri/s"] = benchmark::Counter(
-    elements * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+  const double elements = model == SCANS
+    ? input->GetNumberOfPoints()
+    : static_cast<double>(builder->GetNumberOfInputTriangles());
+  state.counters["Mtri/s"] =
+    benchmark::Counter(elements * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["nodes"] = static_cast<double>(o->GetNumberOfNodes());
   state.counters["level"] = o->GetFinestLevel();
   state.counters["bytes/node"] =
@@ -199,8 +200,7 @@ void BM_OpenOctreeFile(benchmark::State& state)
   state.counters["MB"] = static_cast<double>(input->GetNumberOfPolys()) > 0
     ? builder->GetOutput()->GetActualMemorySize() / 1024.0
     : 0;
-  const char* names[] = { "mapped", "mapped+checksums", "read into memory",
-    "mapped+IsConsistent" };
+  const char* names[] = { "mapped", "mapped+checksums", "read into memory", "mapped+IsConsistent" };
   state.SetLabel(std::string(ModelName(model)) + " " + names[variant]);
   std::remove(path.c_str());
 }

@@ -169,7 +169,8 @@ int main(int argc, char* argv[])
     std::printf("octree file: %s, written in %.2f s; opened in %.3f ms (%s, %lld nodes); "
                 "first filter's check %.0f ms (%s)\n",
       written ? "ok" : writer->GetErrorMessage(), writeSeconds, reader->GetReadTime() * 1e3,
-      reader->GetMapped() ? "mapped" : "read", static_cast<long long>(reader->GetOutput()->GetNumberOfNodes()),
+      reader->GetMapped() ? "mapped" : "read",
+      static_cast<long long>(reader->GetOutput()->GetNumberOfNodes()),
       timer->GetElapsedTime() * 1e3, consistent ? "consistent" : "INCONSISTENT");
     std::remove(octreeFile.c_str());
   }
@@ -258,12 +259,11 @@ int main(int argc, char* argv[])
              "lod_triangles,select_ms,patch_ms,render_ms,full_render_ms\n";
     }
     out << triangles << "," << model->GetNumberOfPoints() << "," << buildSeconds << ","
-        << octree->GetFinestLevel() << "," << nodes << "," << octree->GetNumberOfClusters()
-        << "," << peak / 1024.0 << "," << peak * 1024.0 / triangles << ","
-        << (peak - before) / 1024.0 << "," << (peak - before) * 1024.0 / triangles << ","
-        << octreeBytes / 1e6 << "," << octreeBytes / nodes << "," << octreeBytes / triangles
-        << "," << lodTriangles << "," << selectMs << "," << patchMs << "," << renderMs << ","
-        << fullMs << "\n";
+        << octree->GetFinestLevel() << "," << nodes << "," << octree->GetNumberOfClusters() << ","
+        << peak / 1024.0 << "," << peak * 1024.0 / triangles << "," << (peak - before) / 1024.0
+        << "," << (peak - before) * 1024.0 / triangles << "," << octreeBytes / 1e6 << ","
+        << octreeBytes / nodes << "," << octreeBytes / triangles << "," << lodTriangles << ","
+        << selectMs << "," << patchMs << "," << renderMs << "," << fullMs << "\n";
   }
   return 0;
 }

@@ -45,15 +45,15 @@
 
 namespace
 {
-#define CHECK(cond, what)                                                                        \
-  do                                                                                             \
-  {                                                                                              \
-    if (!(cond))                                                                                 \
-    {                                                                                            \
-      std::fprintf(stderr, "FuzzOctreeFile: check failed: %s (%s)\n", #cond,                     \
-        std::string(what).c_str());                                                              \
-      std::abort();                                                                              \
-    }                                                                                            \
+#define CHECK(cond, what)                                                                          \
+  do                                                                                               \
+  {                                                                                                \
+    if (!(cond))                                                                                   \
+    {                                                                                              \
+      std::fprintf(                                                                                \
+        stderr, "FuzzOctreeFile: check failed: %s (%s)\n", #cond, std::string(what).c_str());      \
+      std::abort();                                                                                \
+    }                                                                                              \
   } while (0)
 
 void CheckPatches(const plod::OctreeView& v, const uint8_t* state, const std::string& what)
@@ -144,7 +144,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 
   // the undamaged file reads back bit for bit
   std::ifstream original(path, std::ios::binary);
-  std::vector<char> bytes((std::istreambuf_iterator<char>(original)), std::istreambuf_iterator<char>());
+  std::vector<char> bytes(
+    (std::istreambuf_iterator<char>(original)), std::istreambuf_iterator<char>());
   original.close();
   if (size == 3)
   {
@@ -152,8 +153,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     CHECK(plod::OpenOctreeFile(path, true, true, file, &why), why);
     for (size_t a = 0; a < written.size(); ++a)
     {
-      const size_t n = size_t(written[a].Tuples) * written[a].Components *
-        plod::FileTypeSize(written[a].Type);
+      const size_t n =
+        size_t(written[a].Tuples) * written[a].Components * plod::FileTypeSize(written[a].Type);
       CHECK(n == 0 || std::memcmp(written[a].Data, file.Arrays[a].Data, n) == 0, written[a].Name);
     }
   }

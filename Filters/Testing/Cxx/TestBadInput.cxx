@@ -45,9 +45,9 @@ struct Pipeline
     this->Builder->SetInputData(input);
     this->Selector->SetInputConnection(this->Builder->GetOutputPort());
     this->Patches->SetInputConnection(this->Selector->GetOutputPort());
-    for (vtkObject* o : { static_cast<vtkObject*>(this->Builder.Get()),
-           static_cast<vtkObject*>(this->Selector.Get()),
-           static_cast<vtkObject*>(this->Patches.Get()) })
+    for (vtkObject* o :
+      { static_cast<vtkObject*>(this->Builder.Get()), static_cast<vtkObject*>(this->Selector.Get()),
+        static_cast<vtkObject*>(this->Patches.Get()) })
     {
       o->AddObserver(vtkCommand::ErrorEvent, this->Messages);
       o->AddObserver(vtkCommand::WarningEvent, this->Messages);

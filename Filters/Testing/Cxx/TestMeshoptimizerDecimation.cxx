@@ -134,7 +134,8 @@ vtkSmartPointer<vtkPolyData> MakeBumpyGrid()
     for (int i = 0; i <= n; ++i)
     {
       const double x = double(i) / n, y = double(j) / n;
-      xyz.insert(xyz.end(), { x, y, 0.2 * std::exp(-20 * ((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5))) });
+      xyz.insert(
+        xyz.end(), { x, y, 0.2 * std::exp(-20 * ((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5))) });
     }
   }
   for (int j = 0; j < n; ++j)

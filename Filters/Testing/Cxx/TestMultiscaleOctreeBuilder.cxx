@@ -3,18 +3,21 @@
 // families of generated meshes (checked by brute force in plodOctreeChecks.h), extremes, bad
 // input, and the Stanford data when present.
 #include "plodOctreeBuilder.h"
-#include "plodOctreeStorage.h"
 #include "plodOctreeChecks.h"
+#include "plodOctreeStorage.h"
 #include "plodTestUtilities.h"
 
+#include "vtkCallbackCommand.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
+#include "vtkMath.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
 #include "vtkNew.h"
@@ -22,10 +25,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataNormals.h"
-#include "vtkCallbackCommand.h"
-#include "vtkExecutive.h"
 #include "vtkSMPTools.h"
-#include "vtkMath.h"
 #include "vtkStaticPointLocator.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -74,8 +74,8 @@ std::multiset<std::array<int64_t, 3>> SurfaceTriangles(const plod::OctreeView& v
   for (int64_t t = 0; t < v.NumberOfTriangles; ++t)
   {
     const int32_t* c = &v.Triangles[3 * t];
-    out.insert(plodcheck::Canonical(
-      v.InputPointId[c[0]], v.InputPointId[c[1]], v.InputPointId[c[2]]));
+    out.insert(
+      plodcheck::Canonical(v.InputPointId[c[0]], v.InputPointId[c[1]], v.InputPointId[c[2]]));
   }
   return out;
 }
@@ -180,9 +180,8 @@ TEST(MultiscaleOctreeBuilder, TinyMeshesGetALevelThatSeparatesTheirCorners)
   // a tetrahedron, one triangle and a 12-triangle cube: never the root alone (level 0 would
   // still draw them through an opened leaf, but a level that separates the corners lets the
   // selector choose); the full surface is the input
-  for (auto mesh : { plodtest::MakeTetrahedron(), plodtest::MakeMesh({ 0, 0, 0, 1, 0, 0, 0, 1, 0 },
-                                                    { 0, 1, 2 }),
-         plodtest::MakeCube(0, 1) })
+  for (auto mesh : { plodtest::MakeTetrahedron(),
+         plodtest::MakeMesh({ 0, 0, 0, 1, 0, 0, 0, 1, 0 }, { 0, 1, 2 }), plodtest::MakeCube(0, 1) })
   {
     Built b = Build(mesh);
     CheckOctree(b, "tiny");
@@ -355,8 +354,8 @@ TEST(MultiscaleOctreeBuilder, ThinPartsKeepEverySheet)
 TEST(MultiscaleOctreeBuilder, TopologyFlagsMatchTheEulerCharacteristic)
 {
   // brute force (BFS components, V - E + F) on models with tubes, folds and thin walls
-  for (auto model : { plodtest::MakeRing(1.0, 0.05, 60, 8), plodtest::MakeFoldedSheet(0.02, 0.03, 10),
-         plodtest::MakeBlob(3, 20, 0.3) })
+  for (auto model : { plodtest::MakeRing(1.0, 0.05, 60, 8),
+         plodtest::MakeFoldedSheet(0.02, 0.03, 10), plodtest::MakeBlob(3, 20, 0.3) })
   {
     for (int level : { 3, 5 })
     {
@@ -425,7 +424,8 @@ TEST(MultiscaleOctreeBuilder, ShallowAndDeepCopy)
     EXPECT_EQ(o->GetNumberOfBoundaryEdges(), 0);
     EXPECT_TRUE(o->IsConsistent());
   }
-  EXPECT_EQ(shallow->GetNodeData()->GetArray("Vertex"), b.Octree->GetNodeData()->GetArray("Vertex"));
+  EXPECT_EQ(
+    shallow->GetNodeData()->GetArray("Vertex"), b.Octree->GetNodeData()->GetArray("Vertex"));
   EXPECT_EQ(shallow->GetSurfaceData()->GetArray("Triangles"),
     b.Octree->GetSurfaceData()->GetArray("Triangles"));
   EXPECT_NE(deep->GetSurfaceData()->GetArray("Triangles"),
@@ -508,7 +508,8 @@ TEST(MultiscaleOctreeBuilder, ZeroAreaAndDuplicateTrianglesAreKept)
 {
   // zero-area triangles with three different points keep their connectivity (they draw
   // nothing); duplicated triangles are kept as given
-  auto mesh = plodtest::MakeMesh({ 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0 }, { 0, 1, 2, 0, 1, 3, 0, 1, 3 });
+  auto mesh =
+    plodtest::MakeMesh({ 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0 }, { 0, 1, 2, 0, 1, 3, 0, 1, 3 });
   Built b = Build(mesh);
   CheckOctree(b, "zero area", false);
   EXPECT_EQ(b.View.NumberOfTriangles, 3);
@@ -561,14 +562,23 @@ TEST(MultiscaleOctreeBuilder, ArraysOfTheWrongLengthAreErrorsNamingTheArray)
     const char* Message;
   };
   const Case cases[] = {
-    { "normals", [&](vtkPolyData* pd, vtkMultiscaleOctreeBuilder*) {
-        pd->GetPointData()->SetNormals(shortArray("N", np - 1, 3)); }, "Normals array 'N'" },
-    { "point material", [&](vtkPolyData* pd, vtkMultiscaleOctreeBuilder* b) {
+    { "normals",
+      [&](vtkPolyData* pd, vtkMultiscaleOctreeBuilder*) {
+        pd->GetPointData()->SetNormals(shortArray("N", np - 1, 3));
+      },
+      "Normals array 'N'" },
+    { "point material",
+      [&](vtkPolyData* pd, vtkMultiscaleOctreeBuilder* b) {
         pd->GetPointData()->AddArray(shortArray("Kd", np / 2, 1));
-        b->SetDiffuseArrayName("Kd"); }, "Point material array 'Kd'" },
-    { "cell material", [&](vtkPolyData* pd, vtkMultiscaleOctreeBuilder* b) {
+        b->SetDiffuseArrayName("Kd");
+      },
+      "Point material array 'Kd'" },
+    { "cell material",
+      [&](vtkPolyData* pd, vtkMultiscaleOctreeBuilder* b) {
         pd->GetCellData()->AddArray(shortArray("Ks", pd->GetNumberOfCells() - 3, 1));
-        b->SetSpecularArrayName("Ks"); }, "Cell material array 'Ks'" },
+        b->SetSpecularArrayName("Ks");
+      },
+      "Cell material array 'Ks'" },
   };
   for (const Case& c : cases)
   {
@@ -615,8 +625,8 @@ TEST(MultiscaleOctreeBuilder, TinyAndFarModelsKeepTheirPrecision)
 {
   // a blob of size 1e-6 at 1e6 from the origin, and one of size 1e6: the surface keeps each
   // point within 1e-6 of the model size, and every invariant holds
-  for (auto [scale, offset] : { std::pair<double, double>{ 1e-6, 1e6 }, { 1e6, 0.0 }, { 1e-20, 0.0 },
-         { 1e20, 1e21 } })
+  for (auto [scale, offset] :
+    { std::pair<double, double>{ 1e-6, 1e6 }, { 1e6, 0.0 }, { 1e-20, 0.0 }, { 1e20, 1e21 } })
   {
     const double centre[3] = { offset, -offset, offset };
     auto blob = plodtest::MakeBlob(9, 20, 0.3, scale, centre);
@@ -701,8 +711,8 @@ TEST(MultiscaleOctreeBuilder, MemoryLimitLowersTheLevelWithAWarningOrRefuses)
   free->Update();
   const int wanted = free->GetOutput()->GetFinestLevel();
   // a limit a little below what the chosen level needs: a coarser level, and a warning naming it
-  const double need = plod::EstimateBuildMemory(blob->GetNumberOfPoints(),
-    blob->GetNumberOfPolys(), free->GetOutput()->GetNumberOfNodes(), false);
+  const double need = plod::EstimateBuildMemory(blob->GetNumberOfPoints(), blob->GetNumberOfPolys(),
+    free->GetOutput()->GetNumberOfNodes(), false);
   vtkNew<plodtest::ErrorRecorder> errors;
   vtkNew<vtkMultiscaleOctreeBuilder> tight;
   tight->SetInputData(blob);
@@ -713,8 +723,8 @@ TEST(MultiscaleOctreeBuilder, MemoryLimitLowersTheLevelWithAWarningOrRefuses)
   EXPECT_LT(got, wanted);
   EXPECT_GT(tight->GetOutput()->GetNumberOfNodes(), 0);
   ASSERT_FALSE(errors->Warnings.empty());
-  EXPECT_NE(errors->Warnings[0].find("finest level " + std::to_string(got) + ": lowered from " +
-              std::to_string(wanted)),
+  EXPECT_NE(errors->Warnings[0].find(
+              "finest level " + std::to_string(got) + ": lowered from " + std::to_string(wanted)),
     std::string::npos)
     << errors->Warnings[0];
   // far too small: refused with a clear error, empty octree
@@ -938,8 +948,8 @@ TEST(MultiscaleOctreeBuilder, PointCloudKeepsItsLevelReasonAndNonFiniteCount)
   vtkNew<vtkMultiscaleOctreeBuilder> automatic;
   automatic->SetInputData(cloud);
   automatic->Update();
-  EXPECT_NE(std::string(automatic->GetFinestLevelReason()).find("4 points on average"),
-    std::string::npos)
+  EXPECT_NE(
+    std::string(automatic->GetFinestLevelReason()).find("4 points on average"), std::string::npos)
     << automatic->GetFinestLevelReason();
   vtkNew<vtkMultiscaleOctreeBuilder> user;
   user->SetInputData(cloud);
@@ -959,7 +969,8 @@ TEST(MultiscaleOctreeBuilder, PointCloudKeepsItsLevelReasonAndNonFiniteCount)
   in.NumberOfPoints = static_cast<int64_t>(xyz.size() / 3);
   in.Points = xyz.data();
   plod::OctreeStorage storage;
-  const plod::BuildResult r = plod::BuildOctree(in, plod::BuildParameters(), storage.MakeAllocator());
+  const plod::BuildResult r =
+    plod::BuildOctree(in, plod::BuildParameters(), storage.MakeAllocator());
   ASSERT_TRUE(r.Ok) << r.Error;
   EXPECT_EQ(r.NumberOfNonFinitePoints, 2);
   EXPECT_NE(r.LevelReason.find("4 points on average"), std::string::npos) << r.LevelReason;
@@ -977,8 +988,7 @@ TEST(MultiscaleOctreeBuilder, PointCloudSurfaceHonoursTheMemoryLimit)
   free->SetFinestLevel(4);
   free->Update();
   const double need = plod::EstimateBuildMemory(free->GetOutput()->GetNumberOfSurfacePoints(),
-    free->GetOutput()->GetNumberOfSurfaceTriangles(), free->GetOutput()->GetNumberOfNodes(),
-    false);
+    free->GetOutput()->GetNumberOfSurfaceTriangles(), free->GetOutput()->GetNumberOfNodes(), false);
   ASSERT_GT(need, 0);
   vtkNew<plodtest::ErrorRecorder> errors;
   vtkNew<vtkMultiscaleOctreeBuilder> tight;
@@ -1069,9 +1079,8 @@ TEST(MultiscaleOctreeBuilder, CorruptArraysAreReportedNotFollowed)
   };
   const vtkIdType last = b.Octree->GetNumberOfNodes() - 1;
   const Edit edits[] = { { parent, 5, 5, "point back" },
-    { parent, last, static_cast<int>(last + 7), "point back" },
-    { first, 0, 1 << 30, "children" }, { first, 1, 0, "children" },
-    { leaf, 3, -4, "leaf" }, { tris, 7, 1 << 30, "refers to point" } };
+    { parent, last, static_cast<int>(last + 7), "point back" }, { first, 0, 1 << 30, "children" },
+    { first, 1, 0, "children" }, { leaf, 3, -4, "leaf" }, { tris, 7, 1 << 30, "refers to point" } };
   for (const Edit& e : edits)
   {
     const int old = e.A->GetValue(e.I);

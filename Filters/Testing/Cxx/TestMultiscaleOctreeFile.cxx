@@ -92,8 +92,12 @@ void ExpectIdentical(vtkMultiscaleOctree* a, vtkMultiscaleOctree* b, const std::
   ASSERT_EQ(a->GetNumberOfNodes(), b->GetNumberOfNodes()) << what;
   for (int g = 0; g < 3; ++g)
   {
-    vtkFieldData* fa = g == 0 ? a->GetNodeData() : g == 1 ? a->GetClusterData() : a->GetSurfaceData();
-    vtkFieldData* fb = g == 0 ? b->GetNodeData() : g == 1 ? b->GetClusterData() : b->GetSurfaceData();
+    vtkFieldData* fa = g == 0 ? a->GetNodeData()
+      : g == 1                ? a->GetClusterData()
+                              : a->GetSurfaceData();
+    vtkFieldData* fb = g == 0 ? b->GetNodeData()
+      : g == 1                ? b->GetClusterData()
+                              : b->GetSurfaceData();
     int compared = 0;
     for (int i = 0; i < fa->GetNumberOfArrays(); ++i)
     {
@@ -108,8 +112,7 @@ void ExpectIdentical(vtkMultiscaleOctree* a, vtkMultiscaleOctree* b, const std::
       ASSERT_EQ(x->GetDataType(), y->GetDataType()) << x->GetName();
       ASSERT_EQ(x->GetNumberOfComponents(), y->GetNumberOfComponents()) << x->GetName();
       ASSERT_EQ(x->GetNumberOfTuples(), y->GetNumberOfTuples()) << x->GetName();
-      const size_t bytes =
-        size_t(x->GetNumberOfValues()) * size_t(x->GetDataTypeSize());
+      const size_t bytes = size_t(x->GetNumberOfValues()) * size_t(x->GetDataTypeSize());
       EXPECT_EQ(std::memcmp(x->GetVoidPointer(0), y->GetVoidPointer(0), bytes), 0)
         << what << ": " << x->GetName();
       ++compared;
@@ -303,8 +306,8 @@ TEST(MultiscaleOctreeFile, CorruptFilesAreClearErrorsNeverCrashes)
     std::vector<char> b(bytes.begin(), bytes.begin() + std::min(cut, bytes.size() - 1));
     expectRefused(b, "truncated at " + std::to_string(cut));
   }
-  expectRefused(std::vector<char>(bytes.begin(), bytes.begin() + 4096 * 3), "truncated",
-    "truncated");
+  expectRefused(
+    std::vector<char>(bytes.begin(), bytes.begin() + 4096 * 3), "truncated", "truncated");
   // longer than written
   {
     std::vector<char> b = bytes;

@@ -15,9 +15,9 @@
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
+#include "vtkMath.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
-#include "vtkMath.h"
 #include "vtkMultiscaleOctreeCutter.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
@@ -59,15 +59,15 @@ vtkSmartPointer<vtkMultiscaleOctree> WithCut(vtkMultiscaleOctree* octree,
   return copy;
 }
 
-vtkSmartPointer<vtkPolyData> Patches(vtkMultiscaleOctree* octree,
-  plodtest::ErrorRecorder* errors = nullptr, bool dropFolds = true)
+vtkSmartPointer<vtkPolyData> Patches(
+  vtkMultiscaleOctree* octree, plodtest::ErrorRecorder* errors = nullptr, bool dropFolds = true)
 {
   vtkNew<vtkMultiscalePatchGenerator> gen;
   gen->SetInputData(octree);
   gen->GenerateNodeIdsOn();
   gen->GenerateInputPointIdsOn();
   gen->SetFoldHandling(dropFolds ? vtkMultiscalePatchGenerator::FOLDS_REVERSE_NORMALS
-                               : vtkMultiscalePatchGenerator::FOLDS_KEEP);
+                                 : vtkMultiscalePatchGenerator::FOLDS_KEEP);
   if (errors)
   {
     gen->AddObserver(vtkCommand::ErrorEvent, errors);
@@ -301,8 +301,8 @@ TEST(MultiscalePatchGenerator, HiddenCellsAndCullMasks)
       if (cut[n] == plod::CutHidden && trial % 2)
         mask[n] = static_cast<uint8_t>(1u << plane(rng)) | (rng() % 3 == 0 ? 1u : 0u);
     plod::PatchResult r;
-    ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), trial % 2 ? mask.data() : nullptr, r,
-      nullptr, nullptr, keep));
+    ASSERT_TRUE(plod::GeneratePatches(
+      v, cut.data(), trial % 2 ? mask.data() : nullptr, r, nullptr, nullptr, keep));
     // expected: all of the clustering, minus the triangles the rule hides
     std::multiset<std::array<int64_t, 3>> expected;
     for (int64_t t = 0; t < v.NumberOfTriangles; ++t)
@@ -419,8 +419,8 @@ TEST(MultiscalePatchGenerator, FoldsAreDroppedOrGivenReversedNormalsAndNothingEl
       const int ownCorners = int(own.count(t[0]) + own.count(t[1]) + own.count(t[2]));
       ASSERT_TRUE(ownCorners == 0 || ownCorners == 3) << trial;
       if (ownCorners == 3)
-        onOwn.insert(plodcheck::Canonical(reversed.PointSource[t[0]],
-          reversed.PointSource[t[1]], reversed.PointSource[t[2]]));
+        onOwn.insert(plodcheck::Canonical(
+          reversed.PointSource[t[0]], reversed.PointSource[t[1]], reversed.PointSource[t[2]]));
     }
     ASSERT_EQ(onOwn, turned) << trial;
     for (int64_t p : own)
@@ -614,8 +614,8 @@ TEST(MultiscalePatchGenerator, StanfordBunnyBoundaryOnlyAtItsHoles)
     {
       if (u.second != 0)
       {
-        ASSERT_TRUE(allowed.count(u.first)) << "an open edge away from the bunny's holes, level "
-                                            << level;
+        ASSERT_TRUE(allowed.count(u.first))
+          << "an open edge away from the bunny's holes, level " << level;
       }
     }
   }
@@ -659,9 +659,11 @@ TEST(MultiscalePatchGenerator, OnlyWhatChangedReExecutes)
   int builds = 0, patches = 0;
   vtkNew<vtkCallbackCommand> countBuild, countPatch;
   countBuild->SetClientData(&builds);
-  countBuild->SetCallback([](vtkObject*, unsigned long, void* c, void*) { ++*static_cast<int*>(c); });
+  countBuild->SetCallback(
+    [](vtkObject*, unsigned long, void* c, void*) { ++*static_cast<int*>(c); });
   countPatch->SetClientData(&patches);
-  countPatch->SetCallback([](vtkObject*, unsigned long, void* c, void*) { ++*static_cast<int*>(c); });
+  countPatch->SetCallback(
+    [](vtkObject*, unsigned long, void* c, void*) { ++*static_cast<int*>(c); });
   builder->AddObserver(vtkCommand::EndEvent, countBuild);
   gen->AddObserver(vtkCommand::EndEvent, countPatch);
   gen->Update();
@@ -703,9 +705,12 @@ TEST(MultiscalePatchGenerator, InvalidCutsAreErrorsAndEmptyOutputs)
   };
   const Case cases[] = {
     { "state 7", [&](std::vector<uint8_t>& c) { c[inner] = 7; }, "cut state 7" },
-    { "opened inner node", [&](std::vector<uint8_t>& c) {
+    { "opened inner node",
+      [&](std::vector<uint8_t>& c) {
         std::fill(c.begin(), c.end(), 0);
-        c[0] = plod::CutOpen; }, "opened but is not a leaf" },
+        c[0] = plod::CutOpen;
+      },
+      "opened but is not a leaf" },
     { "uncovered leaf", [&](std::vector<uint8_t>& c) { c[v.FirstChild[inner]] = 0; },
       "no ancestor in the cut" },
     { "covered twice", [&](std::vector<uint8_t>& c) { c[inner] = plod::CutDrawn; },
@@ -719,8 +724,8 @@ TEST(MultiscalePatchGenerator, InvalidCutsAreErrorsAndEmptyOutputs)
     EXPECT_FALSE(plod::ValidateCut(v, cut.data(), &why)) << k.What;
     vtkNew<plodtest::ErrorRecorder> errors;
     auto pd = Patches(WithCut(b.Octree, cut), errors);
-    EXPECT_TRUE(errors->HasError(k.Message)) << k.What << ": "
-                                              << (errors->Errors.empty() ? "" : errors->Errors[0]);
+    EXPECT_TRUE(errors->HasError(k.Message))
+      << k.What << ": " << (errors->Errors.empty() ? "" : errors->Errors[0]);
     EXPECT_EQ(pd->GetNumberOfPolys(), 0) << k.What;
     EXPECT_FALSE(WithCut(b.Octree, cut)->HasValidCut()) << k.What;
   }

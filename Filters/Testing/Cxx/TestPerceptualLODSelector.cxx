@@ -2,17 +2,17 @@
 // Tests of vtkPerceptualLODSelector and its kernel: exact small cases for every formula (SRCC
 // eq. 7 and its one-line form, the specular term, contour classes, TMM on contour and
 // brightness, IPV/DPV, Wang & Sato, Cheng), invariants over random views, extremes, bad input.
-#include "plodOctree.h"
 #include "plodCut.h"
+#include "plodOctree.h"
 #include "plodSelector.h"
 #include "plodTestUtilities.h"
 #include "plodTinyOctree.h"
 
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
-#include "vtkMath.h"
 #include "vtkCommand.h"
 #include "vtkFieldData.h"
+#include "vtkMath.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
 #include "vtkMultiscalePatchGenerator.h"
@@ -589,7 +589,8 @@ TEST(PerceptualLODSelector, MicroMotionScalesByFrameIntervalOverFrameTime)
   EXPECT_EQ(none.first, p.Array(vtkMultiscaleOctree::CutStateArrayName()));
 }
 
-// ---- extremes ------------------------------------------------------------------------------------
+// ---- extremes
+// ------------------------------------------------------------------------------------
 
 TEST(PerceptualLODSelector, Extremes)
 {

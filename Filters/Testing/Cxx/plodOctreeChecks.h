@@ -64,8 +64,8 @@ inline double Angle(const double a[3], const double b[3])
 {
   const double c[3] = { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
     a[0] * b[1] - a[1] * b[0] };
-  return std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+  return std::atan2(
+    std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
 }
 
 inline std::array<double, 3> Get3(const float* p)

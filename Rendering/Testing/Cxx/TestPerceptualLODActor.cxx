@@ -56,7 +56,8 @@ struct Scene
     grab->ReadFrontBufferOff();
     grab->Update();
     auto* px = vtkUnsignedCharArray::SafeDownCast(grab->GetOutput()->GetPointData()->GetScalars());
-    return std::vector<unsigned char>(px->GetPointer(0), px->GetPointer(0) + px->GetNumberOfValues());
+    return std::vector<unsigned char>(
+      px->GetPointer(0), px->GetPointer(0) + px->GetNumberOfValues());
   }
 };
 
@@ -72,8 +73,8 @@ void ExpectSameCamera(vtkCamera* a, vtkCamera* b, double scale)
 
 double Size(const double b[6])
 {
-  return std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
-    (b[5] - b[4]) * (b[5] - b[4]));
+  return std::sqrt(
+    (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
 }
 
 int Lit(const std::vector<unsigned char>& image)
@@ -115,8 +116,8 @@ TEST(PerceptualLODActor, ResetCameraFitsTheWholeModel)
     plain->SetUserMatrix(actor->GetMatrix());
     reference.Renderer->AddActor(plain);
     reference.Renderer->ResetCamera(plain->GetBounds());
-    ExpectSameCamera(withActor.Renderer->GetActiveCamera(), reference.Renderer->GetActiveCamera(),
-      Size(model));
+    ExpectSameCamera(
+      withActor.Renderer->GetActiveCamera(), reference.Renderer->GetActiveCamera(), Size(model));
     double b[6];
     actor->GetBounds(b);
     for (int k = 0; k < 6; ++k)

@@ -9,8 +9,8 @@
 #include "vtkCamera.h"
 #include "vtkFieldData.h"
 #include "vtkLight.h"
-#include "vtkLightKit.h"
 #include "vtkLightCollection.h"
+#include "vtkLightKit.h"
 #include "vtkMatrix4x4.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
@@ -80,8 +80,9 @@ struct Scene
   }
   std::vector<uint8_t> Cut()
   {
-    auto* a = vtkUnsignedCharArray::SafeDownCast(this->Selector->GetOutput()->GetNodeData()->GetArray(
-      vtkMultiscaleOctree::CutStateArrayName()));
+    auto* a =
+      vtkUnsignedCharArray::SafeDownCast(this->Selector->GetOutput()->GetNodeData()->GetArray(
+        vtkMultiscaleOctree::CutStateArrayName()));
     return a ? std::vector<uint8_t>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfTuples())
              : std::vector<uint8_t>();
   }

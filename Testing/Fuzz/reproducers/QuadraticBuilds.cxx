@@ -78,7 +78,8 @@ int main(int argc, char** argv)
   in.NumberOfTriangles = static_cast<int64_t>(triangles.size() / 3);
   in.Triangles = triangles.empty() ? nullptr : triangles.data();
   const auto start = std::chrono::steady_clock::now();
-  const plod::BuildResult r = plod::BuildOctree(in, plod::BuildParameters(), storage.MakeAllocator());
+  const plod::BuildResult r =
+    plod::BuildOctree(in, plod::BuildParameters(), storage.MakeAllocator());
   const double seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("%s of %d: %s, level %d, %.3f s\n", star ? "star" : "cloud", n,
