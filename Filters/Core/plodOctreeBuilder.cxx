@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -1345,6 +1346,7 @@ void MeshBuild::PlaceVertex(const CellSums& s, uint64_t key, int level, float* o
     for (int a = 0; a < 3; ++a)
     {
       x[a] = std::min(std::max(x[a], lo[a]), lo[a] + h);
+      assert(std::isfinite(x[a]) && "a QEF vertex lies in its cell");
     }
   }
   else
@@ -1930,6 +1932,7 @@ bool MeshBuild::TightenCones()
     const double far[3] = { w[0], w[1], w[2] };
     // the exact angle never exceeds eq. (2)'s bound; rounding must not make it larger either
     o.ConeAngle[n] = std::min(o.ConeAngle[n], static_cast<float>(AngleBetween(axis, far)));
+    assert(o.ConeAngle[n] >= 0 && o.ConeAngle[n] <= float(Pi));
   }
   std::vector<int64_t>().swap(this->IncStart);
   std::vector<int32_t>().swap(this->Inc);
@@ -1982,6 +1985,7 @@ bool MeshBuild::ComputeShapeErrors()
           if (hi[k] >= lo[k])
             error = std::max(error, hi[k] - lo[k]);
         }
+        assert(error >= 0 && std::isfinite(error));
         o.ShapeError[n] = static_cast<float>(error);
       }
     });
@@ -1995,6 +1999,21 @@ bool MeshBuild::ComputeShapeErrors()
 
 bool MeshBuild::Finish()
 {
+#ifndef NDEBUG
+  // internal invariants (debug builds): parents are stored before their children, one level up;
+  // a cluster's parent cluster belongs to its node's parent
+  const OctreeArrays& o = this->Out;
+  for (int64_t n = 1; n < this->Nodes; ++n)
+  {
+    assert(o.Parent[n] >= 0 && o.Parent[n] < n);
+    assert(o.Level[n] == o.Level[o.Parent[n]] + 1);
+  }
+  for (int64_t c = 0; c < this->R.NumberOfClusters; ++c)
+  {
+    const int64_t p = o.ClusterParent[c];
+    assert(p < 0 || o.ClusterNode[p] == o.Parent[o.ClusterNode[c]]);
+  }
+#endif
   this->Report.Finish();
   this->R.Ok = true;
   return true;

@@ -5,6 +5,7 @@
 #include "plodPatches.h"
 
 #include <algorithm>
+#include <cassert>
 
 namespace plod
 {
@@ -319,6 +320,16 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
     }
     return false;
   }
+#ifndef NDEBUG
+  // internal invariants (debug builds): every corner is an output point, no triangle collapsed
+  for (size_t t = 0; t + 2 < out.Triangles.size(); t += 3)
+  {
+    const int64_t* c = &out.Triangles[t];
+    for (int k = 0; k < 3; ++k)
+      assert(c[k] >= 0 && c[k] < int64_t(out.PointSource.size()));
+    assert(c[0] != c[1] && c[1] != c[2] && c[0] != c[2]);
+  }
+#endif
   return true;
 }
 

@@ -2,6 +2,7 @@
 #include "plodSelector.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -68,6 +69,7 @@ void ConeCosineRange(
   const double cHi = cosA <= -cosT ? -1.0 : cosA * cosT - sinA * sinT;
   high = PositivePower(cLo, power);
   low = PositivePower(cHi, power);
+  assert(high >= low && "the smallest angle in the cone gives the largest cosine");
 }
 
 bool ChengAccepts(double cosT, double sinT, double rate, double D)
@@ -591,6 +593,10 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     else
       refine(e, true);
   }
+  // internal invariants (debug builds): on a valid octree the walk writes a valid cut, and the
+  // figures count it
+  assert(stats.Drawn <= stats.InCut && stats.InCut == int64_t(this->Previous.size()));
+  assert(!ValidateOctree(v) || ValidateCut(v, state));
 }
 
 } // namespace plod
