@@ -7,7 +7,7 @@ packages=(
   libvtk9-dev python3-vtk9 python3-numpy python3-matplotlib mpi-default-dev
   libeigen3-dev libgtest-dev libbenchmark-dev libmeshoptimizer-dev
   xvfb xauth libgl1-mesa-dri
-  clang-14 libclang-rt-14-dev
+  clang-14 libclang-rt-14-dev clang-format-14 python3-skimage
 )
 missing=()
 for p in "${packages[@]}"; do
