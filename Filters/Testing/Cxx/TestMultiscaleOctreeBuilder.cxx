@@ -856,6 +856,35 @@ TEST(MultiscaleOctreeBuilder, MaterialFromArrays)
   }
   EXPECT_FLOAT_EQ(v.Specular[0], 0.0f);
   EXPECT_FLOAT_EQ(v.Specular[1], 1.0f);
+
+  // the other way round: diffuse per triangle, specular per point; the root spans each array's
+  // whole range, and no cell reaches outside it
+  auto blob2 = plodtest::MakeBlob(16, 24, 0.2);
+  vtkNew<vtkFloatArray> kdCells;
+  kdCells->SetName("Kd");
+  for (vtkIdType i = 0; i < blob2->GetNumberOfCells(); ++i)
+    kdCells->InsertNextValue(0.25f + 0.5f * float(i % 5) / 4.0f);
+  blob2->GetCellData()->AddArray(kdCells);
+  vtkNew<vtkFloatArray> ksPoints;
+  ksPoints->SetName("Ks");
+  for (vtkIdType i = 0; i < blob2->GetNumberOfPoints(); ++i)
+    ksPoints->InsertNextValue(0.1f + 0.3f * float(i % 4) / 3.0f);
+  blob2->GetPointData()->AddArray(ksPoints);
+  builder->SetInputData(blob2);
+  builder->Update();
+  ASSERT_TRUE(builder->GetOutput()->GetView(v));
+  EXPECT_FLOAT_EQ(v.Diffuse[0], 0.25f);
+  EXPECT_FLOAT_EQ(v.Diffuse[1], 0.75f);
+  EXPECT_FLOAT_EQ(v.Specular[0], 0.1f);
+  EXPECT_FLOAT_EQ(v.Specular[1], 0.4f);
+  for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+  {
+    EXPECT_LE(v.Diffuse[2 * n], v.Diffuse[2 * n + 1]) << n;
+    EXPECT_GE(v.Diffuse[2 * n], 0.25f - 1e-6f) << n;
+    EXPECT_LE(v.Diffuse[2 * n + 1], 0.75f + 1e-6f) << n;
+    EXPECT_GE(v.Specular[2 * n], 0.1f - 1e-6f) << n;
+    EXPECT_LE(v.Specular[2 * n + 1], 0.4f + 1e-6f) << n;
+  }
 }
 
 TEST(MultiscaleOctreeBuilder, DenseCloudNormalsFromSampledNeighbours)

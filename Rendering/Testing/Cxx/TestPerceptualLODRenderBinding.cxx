@@ -170,6 +170,12 @@ TEST(PerceptualLODRenderBinding, MovingTheActorGivesTheMicroMotionTolerance)
     }
     drawn.push_back(s.Selector->GetNumberOfDrawnNodes());
     EXPECT_EQ(s.Builds, 1);
+    if (step > 0)
+    {
+      // t_m is the time the binding measured between the last two frames
+      EXPECT_GT(s.Binding->GetMeasuredFrameTime(), 0);
+      EXPECT_DOUBLE_EQ(s.Selector->GetPreviousFrameTime(), s.Binding->GetMeasuredFrameTime());
+    }
   }
   EXPECT_LE(drawn[1], drawn[0]);
   EXPECT_LT(drawn[2], drawn[1]);
@@ -258,6 +264,7 @@ TEST(PerceptualLODRenderBinding, FiguresMatchHandComputation)
   spot->PositionalOn();
   spot->SetConeAngle(20);
   spot->SetPosition(-2, 1, 3);
+  spot->SetFocalPoint(0.5, 0.25, -1); // a positional light's vector is its position, not this
   for (vtkLight* l : { head.Get(), cameraLight.Get(), scene.Get(), spot.Get() })
     s.Renderer->AddLight(l);
   for (bool parallel : { false, true })
