@@ -477,3 +477,33 @@ TEST(SelectorExact, SRCCContourAndBrightnessBoundaries)
   EXPECT_EQ(b.RootReason(at(boundary - 0.01)), plod::ReasonNone);
   EXPECT_EQ(b.RootReason(at(boundary + 0.01)), plod::AcceptedBrightness);
 }
+
+// ---- parallel projection: k is pixels per unit length, v_e is against the projection --------
+
+TEST(SelectorExact, ParallelProjection)
+{
+  Tiny t;
+  auto parallel = [](double pixelsPerUnit, double dz) {
+    auto in = Viewer(0.5, 0.5, 50); // the eye position plays no part in parallel projection
+    in.Parallel = true;
+    in.ProjectionDirection[0] = in.ProjectionDirection[1] = 0;
+    in.ProjectionDirection[2] = dz;
+    in.PixelScale = pixelsPerUnit;
+    return in;
+  };
+  // SCVC: error 0.01 x pixels per unit: accepted up to 100 pixels per unit
+  auto in = parallel(99.9, -1);
+  in.Error = plod::ErrorModel::SCVC;
+  EXPECT_EQ(t.RootReason(in), plod::AcceptedError);
+  in.PixelScale = 100.1;
+  EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
+  // SRCC: looking down -z, the +z cone faces the viewer; looking up +z it faces away
+  EXPECT_EQ(t.RootReason(parallel(99.9, -1)), plod::AcceptedBrightness);
+  EXPECT_EQ(t.RootReason(parallel(99.9, +1)), plod::BackFacing);
+  // looking along x the root is on the contour: its 0.01 error decides at 100 pixels per unit
+  auto side = parallel(99.9, 0);
+  side.ProjectionDirection[0] = -1;
+  EXPECT_EQ(t.RootReason(side), plod::AcceptedContour);
+  side.PixelScale = 100.1;
+  EXPECT_EQ(t.RootReason(side), plod::ReasonNone);
+}
