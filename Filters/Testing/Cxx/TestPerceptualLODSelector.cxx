@@ -13,11 +13,13 @@
 #include "vtkCommand.h"
 #include "vtkFieldData.h"
 #include "vtkMath.h"
+#include "vtkMatrix4x4.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
 #include "vtkPerceptualLODSelector.h"
+#include "vtkTransform.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
@@ -587,6 +589,53 @@ TEST(PerceptualLODSelector, MicroMotionScalesByFrameIntervalOverFrameTime)
   const auto none = cut(0.04, 0, dt);
   p.Selector->SetMotionModelToNone();
   EXPECT_EQ(none.first, p.Array(vtkMultiscaleOctree::CutStateArrayName()));
+}
+
+TEST(PerceptualLODSelector, ObjectSpeedFromTheMotionMatricesByHand)
+{
+  // v_m = M_p^-1 M_c v - v (M_c, M_p object->view now and before), v_f = v_m dt / t_m; the
+  // object's speed is the RMS |v_f| over the root's corners times d_s / d_o. A rotation and a
+  // translation together, so that the order of the matrices matters.
+  Pipeline p(plodtest::MakeBlob(3, 40, 0.3), 5);
+  const double focus[3] = { 0, 0, 0 }, eye[3] = { 0.3, 0.2, 4 };
+  p.Look(eye, focus);
+  p.Selector->SetViewportSize(800, 600);
+  p.Selector->SetMotionModelToMicroMotion();
+  vtkNew<vtkTransform> now, before;
+  now->RotateY(20);
+  now->Translate(0.1, -0.2, -3);
+  before->RotateX(-15);
+  before->Translate(-0.3, 0.1, -2.5);
+  double mc[16], mp[16];
+  vtkMatrix4x4::DeepCopy(mc, now->GetMatrix());
+  vtkMatrix4x4::DeepCopy(mp, before->GetMatrix());
+  p.Selector->SetObjectToViewMatrix(mc);
+  p.Selector->SetPreviousObjectToViewMatrix(mp);
+  p.Selector->HasPreviousFrameOn();
+  p.Selector->SetPreviousFrameTime(0.05);
+  p.Selector->SetFrameInterval(0.02);
+  p.Cut();
+  vtkMultiscaleOctree* o = p.Builder->GetOutput();
+  const double* org = o->GetOrigin();
+  const double edge = o->GetRootEdge();
+  vtkNew<vtkMatrix4x4> inverse, product;
+  inverse->DeepCopy(mp);
+  inverse->Invert();
+  vtkMatrix4x4::Multiply4x4(inverse, now->GetMatrix(), product);
+  double sum = 0;
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    const double v[4] = { org[0] + ((corner & 1) ? edge : 0), org[1] + ((corner & 2) ? edge : 0),
+      org[2] + ((corner & 4) ? edge : 0), 1 };
+    double w[4];
+    product->MultiplyPoint(v, w);
+    for (int a = 0; a < 3; ++a)
+      sum += std::pow((w[a] - v[a]) * 0.02 / 0.05, 2);
+  }
+  const double centre[3] = { org[0] + edge / 2, org[1] + edge / 2, org[2] + edge / 2 };
+  const double k =
+    p.Selector->GetScreenDistance() / std::sqrt(vtkMath::Distance2BetweenPoints(eye, centre));
+  EXPECT_NEAR(p.Selector->GetObjectSpeed(), std::sqrt(sum / 8) * k, 1e-9 * k);
 }
 
 // ---- extremes
