@@ -311,6 +311,7 @@ TEST(SelectorExact, ChengThresholdScreenMode)
   EXPECT_EQ(t.RootReason(in), plod::ReasonNone);
   // a cone wider than pi/2 never passes (its normals can be opposite)
   EXPECT_FALSE(plod::ChengAccepts(std::cos(1.6), std::sin(1.6), 100, 1));
+  EXPECT_FALSE(plod::ChengAccepts(std::cos(3.0), std::sin(3.0), 100, 1)); // 2 theta > pi
   EXPECT_TRUE(plod::ChengAccepts(1, 0, 100, 1));
 }
 
@@ -506,4 +507,64 @@ TEST(SelectorExact, ParallelProjection)
   EXPECT_EQ(t.RootReason(side), plod::AcceptedContour);
   side.PixelScale = 100.1;
   EXPECT_EQ(t.RootReason(side), plod::ReasonNone);
+}
+
+// ---- lights, topology and the eye inside a cell ----------------------------------------------
+
+TEST(SelectorExact, PositionalLightPointsFromTheVertexToTheLight)
+{
+  Tiny t;
+  t.Shape[0] = 0;
+  // a positional light straight above the vertex is the directional light (0, 0, 1): the same
+  // brightness boundary (d = 4.98); below the vertex it lights the cone from behind: dB = 0
+  const double boundary = (1 - std::cos(double(0.2f))) * 250;
+  auto lit = [](double d, double lightZ) {
+    auto in = Above(d);
+    in.Lights.push_back(plod::SelectorLight{ true, { 0.5, 0.5, lightZ }, 1, 0 });
+    return in;
+  };
+  EXPECT_EQ(t.RootReason(lit(boundary - 0.01, 100)), plod::ReasonNone);
+  EXPECT_EQ(t.RootReason(lit(boundary + 0.01, 100)), plod::AcceptedBrightness);
+  EXPECT_EQ(t.RootReason(lit(boundary - 0.01, -100)), plod::AcceptedBrightness);
+}
+
+TEST(SelectorExact, UnsafeCellsRefinedWhileTheirThicknessShows)
+{
+  Tiny t;
+  t.Flags[0] = 0; // the root is not a union of discs (a tube)
+  t.Thickness[0] = 0.01f;
+  // huge tolerances: only the topology rule refines; 0.01 x 1000 / d pixels against 1 pixel
+  auto at = [](double d) {
+    auto in = Above(d);
+    in.ContourTolerance = in.BrightnessTolerance = 1e9;
+    return in;
+  };
+  EXPECT_EQ(t.RootReason(at(9.9)), plod::ReasonNone);
+  EXPECT_NE(t.RootReason(at(10.1)), plod::ReasonNone);
+  auto loose = at(4.9);
+  loose.TopologyTolerance = 2; // 2 pixels: accepted from d = 5
+  EXPECT_EQ(t.RootReason(loose), plod::ReasonNone);
+  loose = at(5.1);
+  loose.TopologyTolerance = 2;
+  EXPECT_NE(t.RootReason(loose), plod::ReasonNone);
+  t.Flags[0] = plod::NodeTopologySafe; // safe: no refinement
+  EXPECT_NE(t.RootReason(at(1.5)), plod::ReasonNone);
+}
+
+TEST(SelectorExact, EyeInsideACellRefinesIt)
+{
+  Tiny t;
+  // the eye inside the root cell, 0.35 from its vertex: refined however large the tolerances;
+  // on the cell's face it counts as inside too; just outside it is judged by the tests
+  for (const double z : { 0.85, 1.0 })
+  {
+    auto in = Viewer(0.5, 0.5, z);
+    in.ContourTolerance = in.BrightnessTolerance = 1e9;
+    int child = -1;
+    EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone) << z;
+    EXPECT_NE(child, plod::ReasonNone) << z;
+  }
+  auto out = Viewer(0.5, 0.5, 1.01);
+  out.ContourTolerance = out.BrightnessTolerance = 1e9;
+  EXPECT_NE(t.RootReason(out), plod::ReasonNone);
 }

@@ -24,6 +24,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -636,6 +637,111 @@ TEST(PerceptualLODSelector, ObjectSpeedFromTheMotionMatricesByHand)
   const double k =
     p.Selector->GetScreenDistance() / std::sqrt(vtkMath::Distance2BetweenPoints(eye, centre));
   EXPECT_NEAR(p.Selector->GetObjectSpeed(), std::sqrt(sum / 8) * k, 1e-9 * k);
+}
+
+TEST(PerceptualLODSelector, TheViewReachesTheKernelAsComputedByHand)
+{
+  // The VTK class's cut equals the kernel's cut for a SelectionInput written by hand from the
+  // same view: world coordinates with a scaled, rotated, moved object; frustum planes; parallel
+  // projection; a physical display; the Distance model's level.
+  Pipeline p(plodtest::MakeBlob(5, 40, 0.3), 6);
+  p.Builder->Update();
+  vtkMultiscaleOctree* o = p.Builder->GetOutput();
+  plod::OctreeView view;
+  ASSERT_TRUE(o->GetView(view));
+  const double* org = view.Origin;
+  const double half = 0.5 * view.RootEdge;
+  vtkNew<vtkTransform> place;
+  place->Translate(0.4, -0.3, 0.2);
+  place->RotateZ(25);
+  place->Scale(2, 2, 2);
+  double m[16], inverse[16];
+  vtkMatrix4x4::DeepCopy(m, place->GetMatrix());
+  vtkMatrix4x4::Invert(m, inverse);
+  const double eye[3] = { 1.0, 2.5, 9.0 }, focus[3] = { 0.4, -0.3, 0.2 };
+  vtkNew<vtkCamera> camera;
+  camera->SetPosition(eye);
+  camera->SetFocalPoint(focus);
+  camera->SetViewAngle(25);
+  double planes[24];
+  camera->GetFrustumPlanes(800.0 / 600.0, planes);
+  vtkPerceptualLODSelector* sel = p.Selector;
+  sel->CoordinatesAreWorldOn();
+  sel->SetObjectToWorldMatrix(m);
+  sel->SetEyePosition(eye[0], eye[1], eye[2]);
+  sel->SetFrustumPlanes(planes);
+  sel->SetViewAngle(25);
+  sel->SetViewportSize(800, 600);
+  sel->SetContourTolerance(0.5);
+
+  // the hand-made input: eye and planes in the octree's local coordinates
+  plod::SelectionInput in;
+  double e4[4] = { eye[0], eye[1], eye[2], 1 }, local[4];
+  vtkMatrix4x4::MultiplyPoint(inverse, e4, local);
+  for (int a = 0; a < 3; ++a)
+    in.Eye[a] = local[a] - org[a];
+  in.UseFrustum = true;
+  for (int q = 0; q < 6; ++q)
+  {
+    const double* w = planes + 4 * q;
+    double obj[4];
+    for (int c = 0; c < 4; ++c) // the plane (a row) times M
+      obj[c] = w[0] * m[c] + w[1] * m[4 + c] + w[2] * m[8 + c] + w[3] * m[12 + c];
+    for (int a = 0; a < 3; ++a)
+      in.Planes[q][a] = obj[a];
+    in.Planes[q][3] = obj[3] + obj[0] * org[0] + obj[1] * org[1] + obj[2] * org[2];
+  }
+  in.HideBackFaces = o->GetNumberOfBoundaryEdges() == 0;
+  in.ContourTolerance = 0.5;
+  in.PixelScale = 300.0 / std::tan(12.5 * vtkMath::Pi() / 180.0);
+  auto kernelCut = [&](const plod::SelectionInput& input) {
+    plod::Selector s;
+    s.SetOctree(view);
+    std::vector<uint8_t> state(view.NumberOfNodes, 0), reason(view.NumberOfNodes, 0);
+    plod::SelectionStats stats;
+    s.Select(input, state.data(), reason.data(), nullptr, stats);
+    return state;
+  };
+  const auto perspective = kernelCut(in);
+  EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), perspective);
+  EXPECT_GT(std::count(perspective.begin(), perspective.end(), plod::CutHidden), 0)
+    << "the frustum hides part of the model";
+
+  // a physical display: d_s = viewing distance / pixel pitch
+  sel->UsePhysicalDisplayOn();
+  sel->SetViewingDistance(600);
+  sel->SetPixelPitch(0.25);
+  EXPECT_DOUBLE_EQ(sel->GetScreenDistance(), 2400);
+  in.PixelScale = 2400;
+  EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), kernelCut(in));
+  sel->UsePhysicalDisplayOff();
+
+  // parallel projection: pixels per object unit = (height / 2) / parallel scale x the object's
+  // scale (2); v_e against the direction of projection, in object coordinates
+  sel->ParallelProjectionOn();
+  sel->SetParallelScale(1.25);
+  const double dop[3] = { focus[0] - eye[0], focus[1] - eye[1], focus[2] - eye[2] };
+  sel->SetProjectionDirection(dop[0], dop[1], dop[2]);
+  in.Parallel = true;
+  in.PixelScale = 300.0 / 1.25 * 2.0;
+  for (int a = 0; a < 3; ++a)
+    in.ProjectionDirection[a] =
+      inverse[4 * a] * dop[0] + inverse[4 * a + 1] * dop[1] + inverse[4 * a + 2] * dop[2];
+  EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), kernelCut(in));
+  sel->ParallelProjectionOff();
+  in.Parallel = false;
+
+  // Distance: Wang & Sato's level from the distance between the eye and the root's centre
+  sel->SetErrorModelToDistance();
+  p.Cut();
+  const double d = std::sqrt(
+    std::pow(in.Eye[0] - half, 2) + std::pow(in.Eye[1] - half, 2) + std::pow(in.Eye[2] - half, 2));
+  EXPECT_EQ(sel->GetDistanceLevel(),
+    plod::DistanceLevel(view.RootEdge, view.FinestLevel, 1.0, 25 * vtkMath::Pi() / 180, d, 600));
+  in.Error = plod::ErrorModel::Distance;
+  in.DistanceLevel = sel->GetDistanceLevel();
+  in.PixelScale = 300.0 / std::tan(12.5 * vtkMath::Pi() / 180.0);
+  EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), kernelCut(in));
 }
 
 // ---- extremes
