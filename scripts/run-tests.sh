@@ -5,11 +5,20 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
+# every C++ file formatted as .clang-format (VTK's style) says
+bash scripts/check-format.sh
 bash scripts/build.sh -DPLOD_WARNINGS_AS_ERRORS=ON
 ctest --test-dir build --output-on-failure -j2
 
+# The VTK-free kernels on their own: configured without VTK, built, and their tests run (one of
+# them checks that the test programs link no VTK library). About a minute.
+cmake -S . -B build-core -G Ninja -DPLOD_CORE_ONLY=ON -DPLOD_WARNINGS_AS_ERRORS=ON
+cmake --build build-core
+ctest --test-dir build-core --output-on-failure -j2
+
 # Sanitizer stage (CI runs it; PLOD_SKIP_SANITIZE=1 skips it for a quicker local run). The tree
-# build-asan is RelWithDebInfo with PLOD_SANITIZE=ON: every target of this project (kernels,
+# build-asan is RelWithDebInfo without NDEBUG (so the kernels' debug asserts are checked too)
+# with PLOD_SANITIZE=ON: every target of this project (kernels,
 # modules, tests) is instrumented with ASan, LeakSanitizer and UBSan; VTK and the other
 # libraries are not. Any report fails its test: UBSan aborts on the first one, LSan checks at
 # exit. allocator_may_return_null=1 lets an impossible allocation fail as it does without ASan
@@ -25,6 +34,7 @@ if [ "${PLOD_SKIP_SANITIZE:-0}" != 0 ]; then
   exit 0
 fi
 PLOD_BUILD_DIR=build-asan bash scripts/build.sh -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g" \
   -DPLOD_SANITIZE=ON -DPLOD_WRAP_PYTHON=OFF -DPLOD_BUILD_BENCHMARKS=OFF \
   -DPLOD_BUILD_EXAMPLES=OFF -DPLOD_WARNINGS_AS_ERRORS=ON
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:allocator_may_return_null=1 \
