@@ -69,7 +69,6 @@ void ConeCosineRange(
   const double cHi = cosA <= -cosT ? -1.0 : cosA * cosT - sinA * sinT;
   high = PositivePower(cLo, power);
   low = PositivePower(cHi, power);
-  assert(high >= low && "the smallest angle in the cone gives the largest cosine");
 }
 
 bool ChengAccepts(double cosT, double sinT, double rate, double D)
