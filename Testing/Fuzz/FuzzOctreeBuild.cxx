@@ -1619,6 +1619,12 @@ plod::SelectionInput DecodeView(Stream& s, const plod::OctreeView& v)
   in.Parallel = b0 & 64;
   in.HideBackFaces = b0 & 128;
   const uint8_t b1 = s.U8();
+  // Cheng's own test in place of Distance on some inputs; IPV/DPV by velocity alone or scaling
+  // the error model
+  if (in.Error == plod::ErrorModel::Distance && (b1 & 64))
+    in.Error = plod::ErrorModel::Cheng;
+  in.Velocity =
+    (b1 & 32) ? plod::VelocityCriterion::ScalesErrorModel : plod::VelocityCriterion::Alone;
   // eye
   double d[3];
   ReadTriple(s, d, 1.0);
@@ -1820,6 +1826,10 @@ void CheckSelection(const plod::OctreeView& v, const plod::SelectionInput& in, c
 {
   std::string why;
   CHECK(plod::ValidateCut(v, state, &why), "the selector wrote an invalid cut: " + why);
+  const bool velocityAlone = (in.Motion == plod::MotionModel::InverseVelocity ||
+                               in.Motion == plod::MotionModel::DirectVelocity) &&
+    in.Velocity == plod::VelocityCriterion::Alone;
+  const bool cheng = in.Error == plod::ErrorModel::Cheng && !velocityAlone;
   int64_t inCut = 0, drawn = 0, opened = 0, leaves = 0;
   const bool zero = in.ContourTolerance == 0 && in.BrightnessTolerance == 0;
   for (int64_t n = 0; n < v.NumberOfNodes; ++n)
@@ -1842,7 +1852,7 @@ void CheckSelection(const plod::OctreeView& v, const plod::SelectionInput& in, c
       "hidden node " + Str(n) + " with reason " + Str(r));
     CHECK(r != plod::Culled || (s == plod::CutHidden && in.UseFrustum),
       "culled node " + Str(n) + " in state " + Str(s));
-    CHECK(r != plod::BackFacing || in.Error == plod::ErrorModel::SRCC,
+    CHECK(r != plod::BackFacing || (in.Error == plod::ErrorModel::SRCC && !velocityAlone),
       "back-facing node " + Str(n) + " outside SRCC");
     CHECK(r != plod::BackFacing || (s == plod::CutHidden) == in.HideBackFaces,
       "back-facing node " + Str(n) + " in state " + Str(s));
@@ -1878,7 +1888,20 @@ void CheckSelection(const plod::OctreeView& v, const plod::SelectionInput& in, c
       CHECK(s == plod::CutOpen || (!EyeInBox(in.Eye, lo, h) && !onVertex),
         "node " + Str(n) + " holds the eye but was not refined (reason " + Str(r) + ")");
     }
-    if (zero && in.Error == plod::ErrorModel::SRCC)
+    if (velocityAlone)
+    {
+      // velocity alone: a cell is drawn at its vertex only by its projected size
+      CHECK(s == plod::CutOpen || r == plod::AcceptedSize,
+        "velocity alone drew node " + Str(n) + " for reason " + Str(r));
+      CHECK(s == plod::CutOpen || in.ContourTolerance > 0,
+        "zero tolerance, yet velocity alone accepted node " + Str(n));
+    }
+    if (cheng && in.Foveation == plod::FoveationMode::Off)
+    {
+      // D = 0 everywhere: the threshold is 1 and nothing is simplified
+      CHECK(s == plod::CutOpen, "Cheng without foveation accepted node " + Str(n));
+    }
+    if (zero && in.Error == plod::ErrorModel::SRCC && !velocityAlone)
     {
       CHECK(s == plod::CutOpen || r == plod::BackFacing,
         "zero tolerances, yet node " + Str(n) + " was accepted (reason " + Str(r) + ")");
@@ -1889,7 +1912,7 @@ void CheckSelection(const plod::OctreeView& v, const plod::SelectionInput& in, c
       CHECK(s == plod::CutOpen,
         "zero tolerance, yet node " + Str(n) + " was accepted (reason " + Str(r) + ")");
     }
-    if (in.Error == plod::ErrorModel::Distance)
+    if (in.Error == plod::ErrorModel::Distance && !velocityAlone)
     {
       CHECK(s == plod::CutOpen || v.Level[n] >= in.DistanceLevel,
         "Distance model drew node " + Str(n) + " above level " + Str(in.DistanceLevel));
@@ -1907,7 +1930,9 @@ void CheckSelection(const plod::OctreeView& v, const plod::SelectionInput& in, c
   if ((in.Motion == plod::MotionModel::InverseVelocity ||
         in.Motion == plod::MotionModel::DirectVelocity) &&
     std::isinf(in.VelocityFactor) && in.Foveation == plod::FoveationMode::Off &&
-    in.ContourTolerance > 0 && in.Error != plod::ErrorModel::Distance)
+    in.ContourTolerance > 0 &&
+    (velocityAlone ||
+      (in.Error != plod::ErrorModel::Distance && in.Error != plod::ErrorModel::Cheng)))
   {
     const float* x = &v.Vertex[0];
     const bool eyeRefines = !in.Parallel &&
