@@ -186,8 +186,8 @@ def report(results, path, seconds, partial):
         'alone to a copy of the source, rebuilt, and judged by the tests '
         '(see Testing/Mutation/plod_mutate.py).',
         '',
-        'Command: `bash scripts/run-mutations.sh` (about an hour on 2 cores; `--only TEXT` runs',
-        'the ids containing TEXT).',
+        'Command: `bash scripts/run-mutations.sh` (30 to 60 minutes on 2 cores, with the first build;',
+        '`--only TEXT` runs the ids containing TEXT).',
         '',
         f'Run of {datetime.date.today().isoformat()}{" (partial: --only)" if partial else ""}: '
         f'**{len(results)} mutations, {killed} killed, {len(survived)} survived, '
