@@ -466,7 +466,11 @@ def movement(scene, kind, t, distance):
 def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, speed=None,
            lod_actor=None, frame_writer=None):
     """TMM §5.3 with lag. Returns (mean PSNR, mean frame ms, mean triangles). With a writer,
-    one row per display instant: the frame shown, its figures, PSNR and SSIM."""
+    one row per display instant: the frame shown, its figures, PSNR and SSIM.
+
+    The run is a window of a movement already under way: the first frame sees the motion over
+    the preceding dt (its previous object->view matrix is the view at -dt, its previous frame
+    time dt), as every later frame sees the motion over the previous frame's time."""
     if lod_actor is None:
         scene.method(name, scale)
         if speed is not None:
@@ -478,8 +482,9 @@ def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, spe
     horizon = instants * dt
     frames = []  # (completion time, image, triangles, processing ms)
     start = 0.0
-    prev = None
-    prev_time = 0.0
+    offset, angle, dist = movement(scene, kind, -dt, distance)
+    prev = scene.set_view(dist, offset, angle)
+    prev_time = dt
     while start <= horizon:
         offset, angle, dist = movement(scene, kind, start, distance)
         ov = scene.set_view(dist, offset, angle)
@@ -490,12 +495,13 @@ def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, spe
             img, rms = scene.render(None, actor=lod_actor)
             work, tris, sel, pat = rms, -1, 0.0, 0.0
         else:
+            # the harness's own matrices and times replace what the binding measured between
+            # its calls (set_view), which include the reference renders
             s = scene.selector
             s.SetObjectToViewMatrix(ov)
-            if prev is not None:
-                s.SetPreviousObjectToViewMatrix(prev)
-                s.HasPreviousFrameOn()
-                s.SetPreviousFrameTime(max(prev_time, 1e-4))
+            s.SetPreviousObjectToViewMatrix(prev)
+            s.HasPreviousFrameOn()
+            s.SetPreviousFrameTime(max(prev_time, 1e-4))
             data, tris, sel, pat = scene.lod()
             img, rms = scene.render(data)
             work = sel + pat + rms
