@@ -20,9 +20,12 @@ What it measures (METHOD §4):
    dt = 1/30, 1/60, 1/120 s. Frames run back to back: a frame shows the scene as it was when
    its work started and stays up until the next one is done, its processing time being its
    measured select + patch + render time. At every display instant k dt the shown image is
-   compared with the full-resolution image of that instant. IPV and DPV are calibrated (their
-   speed constant, by bisection) so that their mean frame time equals TMM's; vtkLODActor and
-   vtkQuadricLODActor are run with a desired update rate of 1 / dt;
+   compared with the full-resolution image of that instant; the table gives the mean and the
+   standard deviation of PSNR over the instants (TMM Table 2). IPV and DPV are TMM §5.3's
+   (velocity alone, the selector's default VELOCITY_ALONE); IPV-SRCC and DPV-SRCC scale SRCC's
+   tolerances instead (VELOCITY_SCALES_ERROR_MODEL). All four are calibrated (their speed
+   constant, by bisection) so that their mean frame time equals TMM's (TMM §5.2);
+   vtkLODActor and vtkQuadricLODActor are run with a desired update rate of 1 / dt;
 5. Zhu's perceptual metric PM = VPs/TPs (plod_metrics.perceptual_metric) over viewing distance
    from d_1 = R / sin(theta/2), for the bunny and Stanford's own bun_zipper_res2..4, and the
    distances at which PM crosses 0.5, 0.25 and 0.1 (where discrete levels would switch).
@@ -61,16 +64,24 @@ from perceptual_lod import (vtkMultiscaleOctreeBuilder, vtkMultiscaleOctreeCutte
                             vtkPerceptualLODSelector, vtkPLYFileCheck)
 
 METHODS = {
-    # name: (error model, motion model, foveation)
-    'SRCC': ('SRCC', 'None', False),
-    'TMM': ('SRCC', 'MicroMotion', False),
-    'SCVC': ('SCVC', 'None', False),
-    'PSEC': ('PSEC', 'None', False),
-    'IPV': ('SRCC', 'InverseVelocity', False),
-    'DPV': ('SRCC', 'DirectVelocity', False),
-    'Distance': ('Distance', 'None', False),
-    'Foveated': ('SRCC', 'None', True),
+    # name: (error model, motion model, foveation, velocity criterion of IPV and DPV)
+    # foveation: None or 'multiplier' (the tolerances times exp(K D), this project's use of
+    # Cheng's D with SRCC)
+    'SRCC': ('SRCC', 'None', None, 'Alone'),
+    'TMM': ('SRCC', 'MicroMotion', None, 'Alone'),
+    'SCVC': ('SCVC', 'None', None, 'Alone'),
+    'PSEC': ('PSEC', 'None', None, 'Alone'),
+    # IPV and DPV as TMM §5.3 defines them: velocity alone, every visible cell refined until its
+    # edge projects within ContourTolerance x the speed factor (VELOCITY_ALONE)
+    'IPV': ('SRCC', 'InverseVelocity', None, 'Alone'),
+    'DPV': ('SRCC', 'DirectVelocity', None, 'Alone'),
+    # what this project measured as IPV and DPV before: SRCC's tolerances x the speed factor
+    'IPV-SRCC': ('SRCC', 'InverseVelocity', None, 'ScalesErrorModel'),
+    'DPV-SRCC': ('SRCC', 'DirectVelocity', None, 'ScalesErrorModel'),
+    'Distance': ('Distance', 'None', None, 'Alone'),
+    'Foveated': ('SRCC', 'None', 'multiplier', 'Alone'),
 }
+VELOCITY_METHODS = ('IPV', 'DPV', 'IPV-SRCC', 'DPV-SRCC')
 
 
 # ---- models -----------------------------------------------------------------------------------
@@ -260,10 +271,12 @@ class Scene:
         return [c[0] - r, c[0] + r, c[1] - r, c[1] + r, c[2] - r, c[2] + r]
 
     def method(self, name, scale=1.0):
-        error, motion, fovea = METHODS[name]
+        """Set method `name`. `scale` multiplies the tolerances (1: the papers' values)."""
+        error, motion, fovea, velocity = METHODS[name]
         s = self.selector
         getattr(s, 'SetErrorModelTo' + error)()
         getattr(s, 'SetMotionModelTo' + motion)()
+        getattr(s, 'SetVelocityCriterionTo' + velocity)()
         if fovea:
             s.SetFoveationModeToScreen()
             s.SetFoveationRate(2.0)
@@ -273,6 +286,13 @@ class Scene:
         s.SetContourTolerance(scale)
         s.SetBrightnessTolerance(4 * scale)
         s.SetDistancePixelThreshold(scale)
+
+    def set_velocity_constant(self, name, constant):
+        """IPV's InverseVelocitySpeed or DPV's DirectVelocitySpeed (pixels per frame interval)."""
+        if name.startswith('IPV'):
+            self.selector.SetInverseVelocitySpeed(constant)
+        else:
+            self.selector.SetDirectVelocitySpeed(constant)
 
     def lod(self):
         """Select and patch; returns (polydata copy, triangles, select ms, patch ms)."""
@@ -465,8 +485,9 @@ def movement(scene, kind, t, distance):
 
 def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, speed=None,
            lod_actor=None, frame_writer=None):
-    """TMM §5.3 with lag. Returns (mean PSNR, mean frame ms, mean triangles). With a writer,
-    one row per display instant: the frame shown, its figures, PSNR and SSIM.
+    """TMM §5.3 with lag. Returns (mean PSNR, mean frame ms, mean triangles, standard deviation
+    of PSNR), PSNR over the display instants. With a writer, one row per display instant: the
+    frame shown, its figures, PSNR and SSIM.
 
     The run is a window of a movement already under way: the first frame sees the motion over
     the preceding dt (its previous object->view matrix is the view at -dt, its previous frame
@@ -474,10 +495,7 @@ def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, spe
     if lod_actor is None:
         scene.method(name, scale)
         if speed is not None:
-            if name == 'IPV':
-                scene.selector.SetInverseVelocitySpeed(speed)
-            else:
-                scene.selector.SetDirectVelocitySpeed(speed)
+            scene.set_velocity_constant(name, speed)
         scene.selector.SetFrameInterval(dt)
     horizon = instants * dt
     frames = []  # (completion time, image, triangles, processing ms)
@@ -522,10 +540,15 @@ def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, spe
                                        ssim=metrics.ssim(references[k], frame[1])))
     finite = [v for v in values if math.isfinite(v)]
     return (float(np.mean(finite)) if finite else float('inf'),
-            float(np.mean([f[3] for f in frames])), float(np.mean([f[2] for f in frames])))
+            float(np.mean([f[3] for f in frames])), float(np.mean([f[2] for f in frames])),
+            float(np.std(finite)) if finite else float('nan'))
 
 
 def moving_protocol(scene, distance, instants, writer, dts=(1 / 30, 1 / 60, 1 / 120), frame_writer=None):
+    """TMM §5.3 and Table 2: mean and standard deviation of PSNR over the display instants, for
+    TMM, static SRCC, IPV and DPV in their paper form and in the SRCC-scaled form, each of the
+    four calibrated (its speed constant, by bisection) to TMM's mean frame time (TMM §5.2), and
+    VTK's LOD actors."""
     rows = []
     for kind in ('T', 'Z', 'R'):
         for dt in dts:
@@ -538,7 +561,7 @@ def moving_protocol(scene, distance, instants, writer, dts=(1 / 30, 1 / 60, 1 / 
             results['TMM'] = moving(scene, 'TMM', kind, dt, distance, instants, refs, frame_writer=frame_writer)
             results['SRCC'] = moving(scene, 'SRCC', kind, dt, distance, instants, refs, frame_writer=frame_writer)
             target = results['TMM'][1]
-            for name in ('IPV', 'DPV'):
+            for name in VELOCITY_METHODS:
                 # calibrate the speed constant so that the mean frame time matches TMM's
                 lo, hi = 0.05, 2000.0
                 best = None
@@ -569,10 +592,10 @@ def moving_protocol(scene, distance, instants, writer, dts=(1 / 30, 1 / 60, 1 / 
                                        frame_writer=frame_writer)
             scene.window.SetDesiredUpdateRate(0.0001)
             vtkObject.GlobalWarningDisplayOn()
-            for name in ('TMM', 'IPV', 'DPV', 'SRCC', 'vtkLODActor', 'vtkQuadricLODActor'):
-                p, ms, tris = results[name]
+            for name in ('TMM',) + VELOCITY_METHODS + ('SRCC', 'vtkLODActor', 'vtkQuadricLODActor'):
+                p, ms, tris, sd = results[name]
                 row = dict(model=scene.name, movement=kind, dt=dt, method=name, mean_psnr=p,
-                           mean_frame_ms=ms, mean_triangles=tris,
+                           std_psnr=sd, mean_frame_ms=ms, mean_triangles=tris,
                            constant=results.get(name + ' constant', float('nan')))
                 writer.writerow(row)
                 rows.append(row)
@@ -599,7 +622,7 @@ def zhu(scene, path_levels, writer, steps=8):
 
 # ---- plots and page -------------------------------------------------------------------------------
 
-def plots(out, frontier_rows, distance_rows, speed_rows, zhu_rows):
+def plots(out, frontier_rows, distance_rows, speed_rows, moving_rows, zhu_rows):
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
@@ -648,6 +671,36 @@ def plots(out, frontier_rows, distance_rows, speed_rows, zhu_rows):
             fig.savefig(os.path.join(out, f), dpi=90)
             plt.close(fig)
             files.append(f)
+    # TMM Table 2: mean PSNR with its standard deviation over the display instants
+    for model in sorted({r['model'] for r in moving_rows}):
+        kinds = [k for k in ('T', 'Z', 'R') if any(r['model'] == model and r['movement'] == k
+                                                    for r in moving_rows)]
+        dts = sorted({r['dt'] for r in moving_rows if r['model'] == model}, reverse=True)
+        names = [n for n in ('TMM', 'IPV', 'DPV', 'IPV-SRCC', 'DPV-SRCC', 'SRCC')
+                 if any(r['model'] == model and r['method'] == n for r in moving_rows)]
+        fig, axes = plt.subplots(1, len(kinds), figsize=(4 * len(kinds) + 1, 4), sharey=True, squeeze=False)
+        for ax, kind in zip(axes[0], kinds):
+            for j, name in enumerate(names):
+                at = {r['dt']: r for r in moving_rows
+                      if r['model'] == model and r['movement'] == kind and r['method'] == name}
+                x = [i + (j - (len(names) - 1) / 2) * 0.12 for i, dt in enumerate(dts) if dt in at]
+                y = [at[dt]['mean_psnr'] for dt in dts if dt in at]
+                e = [at[dt]['std_psnr'] for dt in dts if dt in at]
+                ax.errorbar(x, y, yerr=e, fmt='s' if name.endswith('-SRCC') else 'o', capsize=3,
+                            label=name)
+            ax.set_xticks(range(len(dts)))
+            ax.set_xticklabels([f'1/{round(1 / dt)}' for dt in dts])
+            ax.set_xlabel('dt (s)')
+            ax.set_title(f'movement {kind}')
+            ax.grid(True, alpha=0.3)
+        axes[0][0].set_ylabel('PSNR over the display instants (dB), mean +- std')
+        axes[0][-1].legend(fontsize=8)
+        fig.suptitle(f'{model}: moving images (TMM Table 2), equal mean frame time')
+        f = f'moving_{model}.png'
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, f), dpi=90)
+        plt.close(fig)
+        files.append(f)
     if zhu_rows:
         fig, ax = plt.subplots(figsize=(6, 4))
         for label in sorted({r['mesh'] for r in zhu_rows}):
@@ -746,8 +799,8 @@ def main():
                      'render_ms', 'psnr', 'ssim'],
         'distance': ['model', 'method', 'distance', 'triangles', 'select_ms', 'patch_ms', 'visited'],
         'speed': ['model', 'method', 'speed', 'pixels_per_frame', 'triangles', 'select_ms', 'patch_ms'],
-        'moving': ['model', 'movement', 'dt', 'method', 'mean_psnr', 'mean_frame_ms', 'mean_triangles',
-                   'constant'],
+        'moving': ['model', 'movement', 'dt', 'method', 'mean_psnr', 'std_psnr', 'mean_frame_ms',
+                   'mean_triangles', 'constant'],
         'zhu': ['model', 'mesh', 'triangles', 'distance', 'distance_over_d1', 'pm', 'vps', 'tps'],
         'frames': ['model', 'movement', 'dt', 'method', 'instant', 'time', 'shown_started', 'lag_ms',
                    'triangles', 'select_ms', 'patch_ms', 'render_ms', 'psnr', 'ssim'],
@@ -825,20 +878,26 @@ def claims(rows):
         if cases:
             lines.append(f'| SRCC Fig. 9 | SRCC has the best PSNR at equal triangles (vs SCVC, PSEC) | '
                          f'{model}: margin {min(margins):+.2f} to {max(margins):+.2f} dB | {wins} of {cases} distances |')
-    # TMM Table 2: TMM > IPV > DPV in mean PSNR
-    for model in sorted({r['model'] for r in rows['moving']}):
-        order, tmm_best, cases = 0, 0, 0
-        for kind in ('T', 'Z', 'R'):
-            for dt in sorted({r['dt'] for r in rows['moving']}):
-                at = {r['method']: r['mean_psnr'] for r in rows['moving']
-                      if r['model'] == model and r['movement'] == kind and r['dt'] == dt}
-                if {'TMM', 'IPV', 'DPV'} <= set(at):
-                    cases += 1
-                    order += at['TMM'] >= at['IPV'] >= at['DPV']
-                    tmm_best += at['TMM'] >= max(at['IPV'], at['DPV'])
-        if cases:
-            lines.append(f'| TMM Table 2 | mean PSNR of moving images: TMM > IPV > DPV (same frame time) | '
-                         f'{model}: TMM best in {tmm_best}, full order in {order} | {order} of {cases} (movement, dt) |')
+    # TMM Table 2: TMM > IPV > DPV in mean PSNR, for the paper forms and the SRCC-scaled forms
+    for ipv, dpv, form in (('IPV', 'DPV', 'paper forms'), ('IPV-SRCC', 'DPV-SRCC', 'SRCC-scaled forms')):
+        for model in sorted({r['model'] for r in rows['moving']}):
+            order, tmm_best, apart, cases = 0, 0, 0, 0
+            for kind in ('T', 'Z', 'R'):
+                for dt in sorted({r['dt'] for r in rows['moving']}):
+                    at = {r['method']: r for r in rows['moving']
+                          if r['model'] == model and r['movement'] == kind and r['dt'] == dt}
+                    if {'TMM', ipv, dpv} <= set(at):
+                        p = {k: at[k]['mean_psnr'] for k in ('TMM', ipv, dpv)}
+                        cases += 1
+                        order += p['TMM'] >= p[ipv] >= p[dpv]
+                        tmm_best += p['TMM'] >= max(p[ipv], p[dpv])
+                        # TMM ahead of both by more than the larger standard deviation
+                        sd = max(at[k]['std_psnr'] for k in ('TMM', ipv, dpv))
+                        apart += p['TMM'] - max(p[ipv], p[dpv]) > sd
+            if cases:
+                lines.append(f'| TMM Table 2 | mean PSNR of moving images: TMM > {ipv} > {dpv} (same mean frame '
+                             f'time; {form}) | {model}: TMM best in {tmm_best} (ahead by more than a standard '
+                             f'deviation in {apart}), full order in {order} | {order} of {cases} (movement, dt) |')
     # SRCC Fig. 19: fewer triangles farther away
     for model in sorted({r['model'] for r in rows['distance']}):
         rs = [r for r in rows['distance'] if r['model'] == model and r['method'] == 'SRCC']
@@ -866,7 +925,7 @@ def claims(rows):
 
 def write_page(out, seconds=None, size=None):
     rows = {k: read_rows(out, k) for k in ('still', 'frontier', 'distance', 'speed', 'moving', 'zhu')}
-    images = plots(out, rows['frontier'], rows['distance'], rows['speed'], rows['zhu'])
+    images = plots(out, rows['frontier'], rows['distance'], rows['speed'], rows['moving'], rows['zhu'])
     with open(os.path.join(out, 'results.md'), 'w') as page:
         page.write('# Measured results (generated by Testing/Quality/plod_measure.py)\n\n')
         if seconds is not None:
@@ -878,8 +937,14 @@ def write_page(out, seconds=None, size=None):
         page.write(table(rows['still'], ['model', 'distance', 'method', 'triangles', 'psnr', 'ssim',
                                          'select_ms', 'patch_ms', 'render_ms'],
                          {'ssim': '{:.4f}', 'distance': '{:.3g}', 'triangles': '{:.0f}'}) + '\n\n')
-        page.write('## Moving images (TMM §5.3, shaped like TMM Table 2): mean PSNR with lag\n\n')
-        page.write(table(rows['moving'], ['model', 'movement', 'dt', 'method', 'mean_psnr',
+        page.write('## Moving images (TMM §5.3, shaped like TMM Table 2): PSNR with lag\n\n'
+                   'Mean and standard deviation of PSNR over the display instants k dt, k = 0..N. IPV '
+                   'and DPV are TMM §5.3\'s baselines (velocity alone: every visible cell refined until '
+                   'its edge projects within 1 pixel times the speed factor); IPV-SRCC and DPV-SRCC '
+                   'scale SRCC\'s tolerances by the same factor (what this project measured as IPV and '
+                   'DPV before). All four have their constant calibrated so that their mean frame time '
+                   'equals TMM\'s (TMM §5.2).\n\n')
+        page.write(table(rows['moving'], ['model', 'movement', 'dt', 'method', 'mean_psnr', 'std_psnr',
                                           'mean_frame_ms', 'mean_triangles', 'constant'],
                          {'dt': '{:.4f}', 'mean_triangles': '{:.0f}', 'constant': '{:.3g}'}) + '\n\n')
         if rows['zhu']:
