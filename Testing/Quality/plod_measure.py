@@ -15,7 +15,9 @@ What it measures (METHOD §4):
 2. the speed/accuracy frontier: tolerance sweeps of SRCC, SCVC and PSEC, PSNR against
    triangles and against frame time (select + patch + render), beside vtkQuadricDecimation
    done once at each SRCC count and the full-resolution frame;
-3. triangles against viewing distance (SRCC Fig. 19) and against speed (TMM Fig. 8);
+3. triangles against viewing distance (SRCC Fig. 19); triangles and frame time (medians of
+   repeated select + patch + render) against speed (TMM Fig. 8), IPV and DPV calibrated so that
+   their mean frame time over the moving points of the sweep equals TMM's;
 4. the moving-image protocol of TMM §5.3: movements T (translation), Z (zoom), R (rotation) at
    dt = 1/30, 1/60, 1/120 s. Frames run back to back: a frame shows the scene as it was when
    its work started and stays up until the next one is done, its processing time being its
@@ -451,24 +453,66 @@ def against_distance(scene, distances, writer):
     return rows
 
 
-def against_speed(scene, distance, speeds, writer):
-    """Triangles against a steady translation speed (object radii per second, dt = 1/60)."""
+def speed_point(scene, distance, v, reps):
+    """One point of the speed sweep: the object translating at v object radii per second, seen
+    at dt = 1/60 s. The selection is forced to re-run `reps` times; returns (triangles, object
+    speed in pixels per frame, median frame ms (select + patch + render), median select, patch
+    and render ms)."""
+    step = v * scene.radius / 60.0
+    s = scene.selector
+    times = []
+    for _ in range(reps):
+        prev = scene.set_view(distance, offset=(0, 0, 0))
+        cur = scene.set_view(distance, offset=(step, 0, 0))
+        s.SetObjectToViewMatrix(cur)
+        s.SetPreviousObjectToViewMatrix(prev)
+        s.HasPreviousFrameOn()
+        s.SetPreviousFrameTime(1 / 60)
+        s.SetFrameInterval(1 / 60)
+        s.Modified()  # the same view again: time a real selection, not the cached one
+        data, tris, sel, pat = scene.lod()
+        img, rms = scene.render(data)
+        times.append((sel + pat + rms, sel, pat, rms))
+    med = np.median(np.array(times), axis=0)
+    return tris, s.GetObjectSpeed(), float(med[0]), float(med[1]), float(med[2]), float(med[3])
+
+
+def against_speed(scene, distance, speeds, writer, reps=5, calibration_reps=3):
+    """Triangles and frame time against a steady translation speed (TMM Fig. 8: object radii per
+    second, dt = 1/60). IPV's and DPV's constants (both forms) are calibrated as in TMM Table 2:
+    by bisection, so that their mean frame time over the moving points of the sweep (speed > 0)
+    equals TMM's. At speed 0 the constant changes nothing (both factors are 1: IPV and DPV draw
+    every visible cell at 1 pixel, their SRCC-scaled forms draw SRCC), so that point is left out
+    of the means: with it, the paper forms' full-detail frame at rest alone can exceed what the
+    whole sweep of TMM takes, and no constant equalises."""
     rows = []
-    for name in ('SRCC', 'TMM', 'IPV', 'DPV'):
+    sweeps = {}
+    for name in ('SRCC', 'TMM'):
         scene.method(name, 1.0)
-        for v in speeds:
-            step = v * scene.radius / 60.0
-            prev = scene.set_view(distance, offset=(0, 0, 0))
-            cur = scene.set_view(distance, offset=(step, 0, 0))
-            s = scene.selector
-            s.SetObjectToViewMatrix(cur)
-            s.SetPreviousObjectToViewMatrix(prev)
-            s.HasPreviousFrameOn()
-            s.SetPreviousFrameTime(1 / 60)
-            s.SetFrameInterval(1 / 60)
-            data, tris, sel, pat = scene.lod()
-            row = dict(model=scene.name, method=name, speed=v, pixels_per_frame=s.GetObjectSpeed(),
-                       triangles=tris, select_ms=sel, patch_ms=pat)
+        sweeps[name] = ([speed_point(scene, distance, v, reps) for v in speeds], float('nan'))
+    moving_points = [i for i, v in enumerate(speeds) if v > 0]
+    target = float(np.mean([sweeps['TMM'][0][i][2] for i in moving_points]))
+    for name in VELOCITY_METHODS:
+        scene.method(name, 1.0)
+        lo, hi = 0.05, 2000.0
+        best = None
+        for _ in range(8):
+            mid = math.sqrt(lo * hi)
+            scene.set_velocity_constant(name, mid)
+            ms = float(np.mean([speed_point(scene, distance, speeds[i], calibration_reps)[2]
+                                for i in moving_points]))
+            if best is None or abs(ms - target) < abs(best[0] - target):
+                best = (ms, mid)
+            if ms > target:  # too slow: more reduction, a smaller constant
+                hi = mid
+            else:
+                lo = mid
+        scene.set_velocity_constant(name, best[1])
+        sweeps[name] = ([speed_point(scene, distance, v, reps) for v in speeds], best[1])
+    for name, (points, constant) in sweeps.items():
+        for v, (tris, px, frame, sel, pat, rms) in zip(speeds, points):
+            row = dict(model=scene.name, method=name, speed=v, pixels_per_frame=px, triangles=tris,
+                       frame_ms=frame, select_ms=sel, patch_ms=pat, render_ms=rms, constant=constant)
             writer.writerow(row)
             rows.append(row)
     return rows
@@ -653,24 +697,47 @@ def plots(out, frontier_rows, distance_rows, speed_rows, moving_rows, zhu_rows):
         fig.savefig(os.path.join(out, f), dpi=90)
         plt.close(fig)
         files.append(f)
-    for rows, key, xlabel, tag in ((distance_rows, 'distance', 'viewing distance', 'distance'),
-                                   (speed_rows, 'speed', 'speed (object radii per second)', 'speed')):
-        for model in sorted({r['model'] for r in rows}):
-            fig, ax = plt.subplots(figsize=(6, 4))
-            for name in sorted({r['method'] for r in rows if r['model'] == model}):
-                rs = [r for r in rows if r['model'] == model and r['method'] == name]
-                ax.plot([r[key] for r in rs], [r['triangles'] for r in rs], 'o-', label=name)
-            ax.set_xlabel(xlabel)
-            ax.set_ylabel('triangles')
-            ax.set_yscale('log')
-            ax.grid(True, alpha=0.3)
-            ax.legend()
-            ax.set_title(f'{model}: triangles against {tag}')
-            f = f'triangles_vs_{tag}_{model}.png'
-            fig.tight_layout()
-            fig.savefig(os.path.join(out, f), dpi=90)
-            plt.close(fig)
-            files.append(f)
+    for model in sorted({r['model'] for r in distance_rows}):
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for name in sorted({r['method'] for r in distance_rows if r['model'] == model}):
+            rs = [r for r in distance_rows if r['model'] == model and r['method'] == name]
+            ax.plot([r['distance'] for r in rs], [r['triangles'] for r in rs], 'o-', label=name)
+        ax.set_xlabel('viewing distance')
+        ax.set_ylabel('triangles')
+        ax.set_yscale('log')
+        ax.grid(True, alpha=0.3)
+        ax.legend()
+        ax.set_title(f'{model}: triangles against distance')
+        f = f'triangles_vs_distance_{model}.png'
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, f), dpi=90)
+        plt.close(fig)
+        files.append(f)
+    # TMM Fig. 8: triangles and frame time against speed, IPV and DPV calibrated to TMM's mean
+    for model in sorted({r['model'] for r in speed_rows}):
+        fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+        for name in ('SRCC', 'TMM') + VELOCITY_METHODS:
+            rs = [r for r in speed_rows if r['model'] == model and r['method'] == name]
+            if not rs:
+                continue
+            style = 'o--' if name.endswith('-SRCC') else 'o-'
+            label = name if not math.isfinite(rs[0]['constant']) else f"{name} ({rs[0]['constant']:.3g} px)"
+            axes[0].plot([r['speed'] for r in rs], [r['triangles'] for r in rs], style, label=label)
+            axes[1].plot([r['speed'] for r in rs], [r['frame_ms'] for r in rs], style, label=label)
+        axes[0].set_ylabel('triangles')
+        axes[0].set_yscale('symlog', linthresh=10)
+        axes[1].set_ylabel('frame time (select + patch + render, median), ms')
+        axes[1].set_ylim(bottom=0)
+        for a in axes:
+            a.set_xlabel('speed (object radii per second, dt = 1/60 s)')
+            a.grid(True, alpha=0.3)
+        axes[0].legend(fontsize=8)
+        fig.suptitle(f'{model}: triangles and frame time against speed (TMM Fig. 8)')
+        f = f'speed_{model}.png'
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, f), dpi=90)
+        plt.close(fig)
+        files.append(f)
     # TMM Table 2: mean PSNR with its standard deviation over the display instants
     for model in sorted({r['model'] for r in moving_rows}):
         kinds = [k for k in ('T', 'Z', 'R') if any(r['model'] == model and r['movement'] == k
@@ -757,6 +824,24 @@ def crossings(zhu_rows, tolerance=0.02):
     return out
 
 
+def speed_means(speed_rows):
+    """Per model and method: the calibration's figure (mean frame ms over speed > 0), the mean
+    over the whole sweep, and the point at rest."""
+    out = []
+    for model in sorted({r['model'] for r in speed_rows}):
+        for name in ('SRCC', 'TMM') + VELOCITY_METHODS:
+            rs = [r for r in speed_rows if r['model'] == model and r['method'] == name]
+            if not rs:
+                continue
+            rest = [r for r in rs if r['speed'] == 0]
+            out.append(dict(model=model, method=name, constant=rs[0]['constant'],
+                            mean_ms_moving=float(np.mean([r['frame_ms'] for r in rs if r['speed'] > 0])),
+                            mean_ms_all=float(np.mean([r['frame_ms'] for r in rs])),
+                            ms_at_rest=rest[0]['frame_ms'] if rest else float('nan'),
+                            triangles_at_rest=rest[0]['triangles'] if rest else float('nan')))
+    return out
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--out', default='docs/results')
@@ -798,7 +883,8 @@ def main():
         'frontier': ['model', 'method', 'scale', 'triangles', 'frame_ms', 'select_ms', 'patch_ms',
                      'render_ms', 'psnr', 'ssim'],
         'distance': ['model', 'method', 'distance', 'triangles', 'select_ms', 'patch_ms', 'visited'],
-        'speed': ['model', 'method', 'speed', 'pixels_per_frame', 'triangles', 'select_ms', 'patch_ms'],
+        'speed': ['model', 'method', 'speed', 'pixels_per_frame', 'triangles', 'frame_ms', 'select_ms',
+                  'patch_ms', 'render_ms', 'constant'],
         'moving': ['model', 'movement', 'dt', 'method', 'mean_psnr', 'std_psnr', 'mean_frame_ms',
                    'mean_triangles', 'constant'],
         'zhu': ['model', 'mesh', 'triangles', 'distance', 'distance_over_d1', 'pm', 'vps', 'tps'],
@@ -822,7 +908,8 @@ def main():
             all_rows['distance'] += against_distance(
                 scene, [d1 * (1.5 ** i) for i in range(6 if args.quick else 10)], writers['distance'])
         if 'speed' in sections:
-            all_rows['speed'] += against_speed(scene, d1 * 1.5, [0, 0.5, 1, 2, 4, 8, 16], writers['speed'])
+            all_rows['speed'] += against_speed(scene, d1 * 1.5, [0, 0.5, 1, 2, 4, 8, 16], writers['speed'],
+                                               *((3, 1) if args.quick else (5, 3)))
         if 'moving' in sections:
             print(f'[{time.time() - started:6.0f} s] {scene.name}: moving-image protocol', flush=True)
             all_rows['moving'] += moving_protocol(scene, d1 * 1.5, instants, writers['moving'],
@@ -906,15 +993,21 @@ def claims(rows):
         if t:
             lines.append(f'| SRCC Fig. 19 | triangles fall with viewing distance | {model}: {int(t[0])} to {int(t[-1])} '
                          f'triangles over the sweep | {"yes" if mono else "not monotone"} |')
-    # TMM Fig. 8: triangles fall with speed for TMM; IPV flat then falling; DPV to zero
+    # TMM Fig. 8: triangles and time fall with speed for TMM; IPV flat up to its constant, then
+    # falling; DPV falling to the root (zero triangles) at its constant
     for model in sorted({r['model'] for r in rows['speed']}):
-        def tri(m):
-            return [r['triangles'] for r in rows['speed'] if r['model'] == model and r['method'] == m]
-        tmm, dpv = tri('TMM'), tri('DPV')
-        if tmm:
-            lines.append(f'| TMM Fig. 8 | triangles fall with speed (TMM), DPV reaches the root | '
-                         f'{model}: TMM {int(tmm[0])} to {int(tmm[-1])}; DPV {int(dpv[0])} to {int(dpv[-1])} | '
-                         f'{"yes" if all(b <= a for a, b in zip(tmm, tmm[1:])) and dpv[-1] == 0 else "partly"} |')
+        def col(m, key):
+            return [r[key] for r in rows['speed'] if r['model'] == model and r['method'] == m]
+        tmm, ipv, dpv = col('TMM', 'triangles'), col('IPV', 'triangles'), col('DPV', 'triangles')
+        if tmm and ipv and dpv:
+            tmm_ms, ipv_ms, dpv_ms = col('TMM', 'frame_ms'), col('IPV', 'frame_ms'), col('DPV', 'frame_ms')
+            falls = all(b <= a for a, b in zip(tmm, tmm[1:]))
+            lines.append(f'| TMM Fig. 8 | triangles and time fall with speed; DPV reaches the root | '
+                         f'{model}: triangles TMM {int(tmm[0])} to {int(tmm[-1])}, IPV {int(ipv[0])} to '
+                         f'{int(ipv[-1])}, DPV {int(dpv[0])} to {int(dpv[-1])}; ms TMM {tmm_ms[0]:.1f} to '
+                         f'{tmm_ms[-1]:.1f}, IPV {ipv_ms[0]:.1f} to {ipv_ms[-1]:.1f}, DPV {dpv_ms[0]:.1f} to '
+                         f'{dpv_ms[-1]:.1f} | TMM monotone: {"yes" if falls else "no"}; DPV at the root: '
+                         f'{"yes" if dpv[-1] == 0 else "no"} |')
     # Zhu: PM falls with distance; coarser levels have less perceptible detail
     for mesh in sorted({r['mesh'] for r in rows['zhu']}):
         pm = [r['pm'] for r in rows['zhu'] if r['mesh'] == mesh]
@@ -937,6 +1030,21 @@ def write_page(out, seconds=None, size=None):
         page.write(table(rows['still'], ['model', 'distance', 'method', 'triangles', 'psnr', 'ssim',
                                          'select_ms', 'patch_ms', 'render_ms'],
                          {'ssim': '{:.4f}', 'distance': '{:.3g}', 'triangles': '{:.0f}'}) + '\n\n')
+        if rows['speed']:
+            page.write('## Triangles and time against speed (TMM Fig. 8)\n\n'
+                       'Steady translation at dt = 1/60 s. `frame_ms` is the median of select + patch + '
+                       'render over repeated, forced selections. IPV and DPV (the paper forms: velocity '
+                       'alone) and IPV-SRCC and DPV-SRCC (SRCC\'s tolerances times the speed factor) '
+                       'have their constant (`constant`, pixels per frame) calibrated by bisection so that '
+                       'their mean `frame_ms` over the moving points of the sweep (speed > 0) equals '
+                       'TMM\'s; at speed 0 no constant changes anything (the speed factor is 1).\n\n')
+            page.write(table(speed_means(rows['speed']), ['model', 'method', 'constant', 'mean_ms_moving',
+                                                          'mean_ms_all', 'ms_at_rest', 'triangles_at_rest'],
+                             {'constant': '{:.3g}', 'triangles_at_rest': '{:.0f}'}) + '\n\n')
+            page.write(table(rows['speed'], ['model', 'method', 'speed', 'pixels_per_frame', 'triangles',
+                                             'frame_ms', 'select_ms', 'patch_ms', 'render_ms', 'constant'],
+                             {'triangles': '{:.0f}', 'speed': '{:g}', 'pixels_per_frame': '{:.1f}',
+                              'constant': '{:.3g}'}) + '\n\n')
         page.write('## Moving images (TMM §5.3, shaped like TMM Table 2): PSNR with lag\n\n'
                    'Mean and standard deviation of PSNR over the display instants k dt, k = 0..N. IPV '
                    'and DPV are TMM §5.3\'s baselines (velocity alone: every visible cell refined until '
