@@ -28,12 +28,14 @@ What it measures (METHOD §4):
    tolerances instead (VELOCITY_SCALES_ERROR_MODEL). All four are calibrated (their speed
    constant, by bisection) so that their mean frame time equals TMM's (TMM §5.2);
    vtkLODActor and vtkQuadricLODActor are run with a desired update rate of 1 / dt;
-5. Zhu's perceptual metric PM = VPs/TPs (plod_metrics.perceptual_metric) over viewing distance
-   from d_1 = R / sin(theta/2), for the bunny and Stanford's own bun_zipper_res2..4, and the
-   distances at which PM crosses 0.5, 0.25 and 0.1 (where discrete levels would switch).
+5. Zhu's perceptual metric PM = VPs / TPs over viewing distance from d_1 = R / sin(theta/2),
+   TPs being the object's pixel count at d_1 (one constant per model), for the bunny and
+   Stanford's own bun_zipper_res2..4 (all smooth-shaded alike), the distances where a coarser
+   level's PM meets the full mesh's, and where each PM falls to 0.5, 0.25 and 0.1.
 
-Rendering is offscreen VTK (Mesa llvmpipe under Xvfb), grey material, one headlight; full
-resolution is smooth-shaded (vtkPolyDataNormals) like the LOD.
+Rendering is offscreen VTK (Mesa llvmpipe under Xvfb), grey material, one headlight; every mesh
+drawn for comparison (full resolution, decimations, Stanford's levels) is smooth-shaded with
+point normals from vtkPolyDataNormals (splitting off), like the LOD.
 The selector is fed as in a user's pipeline: vtkPerceptualLODRenderBinding reads the camera,
 the frustum, the viewport, the headlight and the actor's matrix and material (colour 0.8 grey,
 diffuse 0.9, specular 0.3, power 20: the brightness criterion sees diffuse 0.72 and specular
@@ -647,18 +649,26 @@ def moving_protocol(scene, distance, instants, writer, dts=(1 / 30, 1 / 60, 1 / 
 
 
 def zhu(scene, path_levels, writer, steps=8):
-    """PM over distance from d_1 = R / sin(theta/2), for the full model and given meshes."""
+    """Zhu's PM = VPs / TPs over distance from d_1 = R / sin(theta/2), for the full model (the
+    first mesh) and the given meshes. TPs is the object's pixel count at d_1, one constant per
+    model: the full mesh's pixels in its image at d_1. VPs (perceptible detail pixels) is counted
+    in each image. (plod_metrics.perceptual_metric divides by the current image's object pixels;
+    that count is kept as `object_pixels`.) Every mesh is drawn smooth-shaded with point normals
+    from smooth(), as the full mesh is."""
     rows = []
     d1 = scene.radius / math.sin(math.radians(scene.view_angle) / 2)
     ppd = metrics.pixels_per_degree(scene.view_angle, scene.size[1])
+    scene.set_view(d1)
+    tps = metrics.perceptual_metric(scene.render(path_levels[0][1])[0], 0.0, ppd)[2]
     for label, mesh in path_levels:
         for i in range(steps):
             dist = d1 * (1.5 ** i)
             scene.set_view(dist)
             img, _ = scene.render(mesh)
-            pm, vps, tps = metrics.perceptual_metric(img, 0.0, ppd)
+            _, vps, pixels = metrics.perceptual_metric(img, 0.0, ppd)
             row = dict(model=scene.name, mesh=label, triangles=mesh.GetNumberOfPolys(),
-                       distance=dist, distance_over_d1=dist / d1, pm=pm, vps=vps, tps=tps)
+                       distance=dist, distance_over_d1=dist / d1, pm=vps / tps, vps=vps, tps=tps,
+                       object_pixels=pixels)
             writer.writerow(row)
             rows.append(row)
     return rows
@@ -774,11 +784,12 @@ def plots(out, frontier_rows, distance_rows, speed_rows, moving_rows, zhu_rows):
             rs = [r for r in zhu_rows if r['mesh'] == label]
             ax.plot([r['distance_over_d1'] for r in rs], [r['pm'] for r in rs], 'o-', label=label)
         ax.set_xscale('log')
+        ax.set_yscale('log')
         ax.set_xlabel('distance / d_1')
-        ax.set_ylabel('PM = VPs / TPs')
+        ax.set_ylabel('PM = VPs / TPs(d_1)')
         ax.grid(True, alpha=0.3)
         ax.legend()
-        ax.set_title("Zhu's perceptual metric over distance")
+        ax.set_title("Zhu's perceptual metric over distance (TPs at d_1)")
         f = 'zhu_pm.png'
         fig.tight_layout()
         fig.savefig(os.path.join(out, f), dpi=90)
@@ -803,9 +814,10 @@ def table(rows, columns, fmt=None):
 
 def crossings(zhu_rows, tolerance=0.02):
     """Where a coarser level can replace the finest: the first distance of the sweep at which its
-    PM comes within `tolerance` of the finest mesh's PM (the first mesh of each model). (Far
-    away the object covers a few hundred pixels and PM is noisy: a "stays within" rule fails on
-    that noise alone.)"""
+    PM comes within `tolerance` of the finest mesh's PM (the first mesh of each model), in two
+    readings: absolute (|PM - PM_full| <= 0.02, i.e. VPs within 2 % of TPs(d_1) pixels) and
+    relative (within 2 % of PM_full). (Far away the object covers a few hundred pixels and PM is
+    noisy: a "stays within" rule fails on that noise alone.)"""
     out = []
     for model in sorted({r['model'] for r in zhu_rows}):
         meshes = []
@@ -815,12 +827,15 @@ def crossings(zhu_rows, tolerance=0.02):
         ref = {r['distance_over_d1']: r['pm'] for r in zhu_rows if r['mesh'] == meshes[0]}
         for label in meshes[1:]:
             rs = sorted((r for r in zhu_rows if r['mesh'] == label), key=lambda r: r['distance_over_d1'])
-            switch = float('nan')
+            switch, relative = float('nan'), float('nan')
             for r in rs:
-                if abs(r['pm'] - ref[r['distance_over_d1']]) <= tolerance:
+                full = ref[r['distance_over_d1']]
+                if not math.isfinite(switch) and abs(r['pm'] - full) <= tolerance:
                     switch = r['distance_over_d1']
-                    break
-            out.append(dict(mesh=label, triangles=int(rs[0]['triangles']), switch_distance_over_d1=switch))
+                if not math.isfinite(relative) and abs(r['pm'] - full) <= tolerance * full:
+                    relative = r['distance_over_d1']
+            out.append(dict(mesh=label, triangles=int(rs[0]['triangles']), switch_distance_over_d1=switch,
+                            relative_switch_distance_over_d1=relative))
     return out
 
 
@@ -839,6 +854,32 @@ def speed_means(speed_rows):
                             mean_ms_all=float(np.mean([r['frame_ms'] for r in rs])),
                             ms_at_rest=rest[0]['frame_ms'] if rest else float('nan'),
                             triangles_at_rest=rest[0]['triangles'] if rest else float('nan')))
+    return out
+
+
+def pm_levels(zhu_rows, levels=(0.5, 0.25, 0.1)):
+    """For each mesh, the distance (in d_1, interpolated in log-log between sweep points) where its
+    PM first falls to each of `levels`: the distances at which a system driven by PM thresholds
+    would switch."""
+    out = []
+    for label in sorted({r['mesh'] for r in zhu_rows}):
+        rs = sorted((r for r in zhu_rows if r['mesh'] == label), key=lambda r: r['distance_over_d1'])
+        row = dict(mesh=label, triangles=int(rs[0]['triangles']), pm_at_d1=rs[0]['pm'])
+        for level in levels:
+            at = float('nan')
+            for a, b in zip(rs, rs[1:]):
+                if a['pm'] > level >= b['pm']:
+                    if b['pm'] > 0:
+                        f = math.log(a['pm'] / level) / math.log(a['pm'] / b['pm'])
+                        at = math.exp(math.log(a['distance_over_d1'])
+                                      + f * math.log(b['distance_over_d1'] / a['distance_over_d1']))
+                    else:
+                        at = b['distance_over_d1']
+                    break
+            if rs[0]['pm'] <= level:
+                at = rs[0]['distance_over_d1']
+            row[f'pm_{level:g}_at'] = at
+        out.append(row)
     return out
 
 
@@ -887,7 +928,8 @@ def main():
                   'patch_ms', 'render_ms', 'constant'],
         'moving': ['model', 'movement', 'dt', 'method', 'mean_psnr', 'std_psnr', 'mean_frame_ms',
                    'mean_triangles', 'constant'],
-        'zhu': ['model', 'mesh', 'triangles', 'distance', 'distance_over_d1', 'pm', 'vps', 'tps'],
+        'zhu': ['model', 'mesh', 'triangles', 'distance', 'distance_over_d1', 'pm', 'vps', 'tps',
+                'object_pixels'],
         'frames': ['model', 'movement', 'dt', 'method', 'instant', 'time', 'shown_started', 'lag_ms',
                    'triangles', 'select_ms', 'patch_ms', 'render_ms', 'psnr', 'ssim'],
     }
@@ -922,7 +964,8 @@ def main():
             for k in (2, 3, 4):
                 p = os.path.join(args.data, f'bun_zipper_res{k}.ply')
                 if os.path.exists(p):
-                    meshes.append((f'bun_zipper_res{k}', read_ply(p)))
+                    # shaded as the full mesh is: smooth, point normals from smooth()
+                    meshes.append((f'bun_zipper_res{k}', smooth(read_ply(p))))
             all_rows['zhu'] += zhu(scene, meshes, writers['zhu'])
         elif args.quick:
             all_rows['zhu'] += zhu(scene, [('quick', scene.full)], writers['zhu'], steps=3)
@@ -1011,7 +1054,7 @@ def claims(rows):
     # Zhu: PM falls with distance; coarser levels have less perceptible detail
     for mesh in sorted({r['mesh'] for r in rows['zhu']}):
         pm = [r['pm'] for r in rows['zhu'] if r['mesh'] == mesh]
-        lines.append(f'| Zhu et al. | PM = VPs/TPs falls with viewing distance | {mesh}: {pm[0]:.2f} to {pm[-1]:.2f} | '
+        lines.append(f'| Zhu et al. | PM = VPs/TPs(d_1) falls with viewing distance | {mesh}: {pm[0]:.3f} to {pm[-1]:.4f} | '
                      f'{"yes" if pm[-1] <= pm[0] else "no"} |')
     return '\n'.join(lines)
 
@@ -1057,9 +1100,21 @@ def write_page(out, seconds=None, size=None):
                          {'dt': '{:.4f}', 'mean_triangles': '{:.0f}', 'constant': '{:.3g}'}) + '\n\n')
         if rows['zhu']:
             page.write("## Zhu's perceptual metric: the distances where discrete levels switch\n\n"
-                       "A coarser level can replace the full mesh from the first distance (in units of "
-                       "d_1 = R / sin(theta/2)) where its PM comes within 0.02 of the full mesh's.\n\n")
-            page.write(table(crossings(rows['zhu']), ['mesh', 'triangles', 'switch_distance_over_d1']) + '\n\n')
+                       "PM = VPs / TPs with TPs the object's pixel count at d_1 = R / sin(theta/2) (the "
+                       "full mesh's, one constant per model), not the current image's; VPs, the pixels of "
+                       "perceptible detail, is counted in each image. Every mesh, the full one and "
+                       "Stanford's bun_zipper_res2..4, is drawn smooth-shaded with point normals from "
+                       "vtkPolyDataNormals (splitting off), the same settings for all.\n\n"
+                       "A coarser level can replace the full mesh from the first distance of the sweep (in "
+                       "units of d_1) where its PM comes within 0.02 of the full mesh's (absolute: 2 % of "
+                       "TPs(d_1) in pixels) or within 2 % of it (relative).\n\n")
+            page.write(table(crossings(rows['zhu']), ['mesh', 'triangles', 'switch_distance_over_d1',
+                                                      'relative_switch_distance_over_d1']) + '\n\n')
+            page.write('Where each mesh\'s PM falls to 0.5, 0.25 and 0.1 (distance / d_1, interpolated '
+                       'log-log between sweep points):\n\n')
+            page.write(table(pm_levels(rows['zhu']), ['mesh', 'triangles', 'pm_at_d1', 'pm_0.5_at',
+                                                      'pm_0.25_at', 'pm_0.1_at'],
+                             {'pm_at_d1': '{:.3f}'}) + '\n\n')
         page.write('## Plots\n\n')
         for f in images:
             page.write(f'![{f}]({f})\n\n')
