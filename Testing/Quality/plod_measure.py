@@ -10,8 +10,9 @@ there), and a generated model of 1,005,360 triangles.
 
 What it measures (METHOD §4):
 1. still images at equal triangle counts (SRCC Fig. 9): PSNR and SSIM against full resolution
-   for SRCC, SCVC, PSEC, Distance, foveated SRCC, a static vtkQuadricDecimation done once at the
-   same count, and vtkQuadricClustering re-run for the frame; three viewing distances;
+   for SRCC, SCVC, PSEC, Distance, foveated SRCC (tolerances times exp(K D)), Cheng's own test
+   (ERROR_CHENG, its rate K matched), a static vtkQuadricDecimation done once at the same count,
+   and vtkQuadricClustering re-run for the frame; three viewing distances;
 2. the speed/accuracy frontier: tolerance sweeps of SRCC, SCVC and PSEC, PSNR against
    triangles and against frame time (select + patch + render), beside vtkQuadricDecimation
    done once at each SRCC count and the full-resolution frame;
@@ -69,8 +70,8 @@ from perceptual_lod import (vtkMultiscaleOctreeBuilder, vtkMultiscaleOctreeCutte
 
 METHODS = {
     # name: (error model, motion model, foveation, velocity criterion of IPV and DPV)
-    # foveation: None or 'multiplier' (the tolerances times exp(K D), this project's use of
-    # Cheng's D with SRCC)
+    # foveation: None, 'multiplier' (the tolerances times exp(K D), this project's use of Cheng's
+    # D with SRCC) or 'paper' (Cheng's own test, ERROR_CHENG; its scale is K)
     'SRCC': ('SRCC', 'None', None, 'Alone'),
     'TMM': ('SRCC', 'MicroMotion', None, 'Alone'),
     'SCVC': ('SCVC', 'None', None, 'Alone'),
@@ -84,6 +85,7 @@ METHODS = {
     'DPV-SRCC': ('SRCC', 'DirectVelocity', None, 'ScalesErrorModel'),
     'Distance': ('Distance', 'None', None, 'Alone'),
     'Foveated': ('SRCC', 'None', 'multiplier', 'Alone'),
+    'Cheng': ('Cheng', 'None', 'paper', 'Alone'),
 }
 VELOCITY_METHODS = ('IPV', 'DPV', 'IPV-SRCC', 'DPV-SRCC')
 
@@ -275,7 +277,8 @@ class Scene:
         return [c[0] - r, c[0] + r, c[1] - r, c[1] + r, c[2] - r, c[2] + r]
 
     def method(self, name, scale=1.0):
-        """Set method `name`. `scale` multiplies the tolerances (1: the papers' values)."""
+        """Set method `name`. `scale` multiplies the tolerances (1: the papers' values); for
+        Cheng, which has no tolerance, it is the foveation rate K of exp(-K D)."""
         error, motion, fovea, velocity = METHODS[name]
         s = self.selector
         getattr(s, 'SetErrorModelTo' + error)()
@@ -283,10 +286,12 @@ class Scene:
         getattr(s, 'SetVelocityCriterionTo' + velocity)()
         if fovea:
             s.SetFoveationModeToScreen()
-            s.SetFoveationRate(2.0)
+            s.SetFoveationRate(scale if fovea == 'paper' else 2.0)
             s.SetGazeDirection(0, 0, -1)
         else:
             s.SetFoveationModeToOff()
+        if fovea == 'paper':
+            scale = 1.0
         s.SetContourTolerance(scale)
         s.SetBrightnessTolerance(4 * scale)
         s.SetDistancePixelThreshold(scale)
@@ -391,8 +396,11 @@ def still_images(scene, distances, writer):
         scene.method('SRCC', 1.0)
         data, target, sel, pat = scene.lod()
         entries = [('SRCC', data, target, sel, pat, 1.0)]
-        for name in ('SCVC', 'PSEC', 'Foveated', 'Distance'):
-            d, tris, s, p, tol = matched_tolerance(scene, name, target)
+        for name in ('SCVC', 'PSEC', 'Foveated', 'Cheng', 'Distance'):
+            # Cheng's paper form has no tolerance: its foveation rate K is matched instead (at
+            # the gaze point D = 0 keeps full detail whatever K, so K can be large)
+            bounds = (1e-2, 1e6) if name == 'Cheng' else (1e-3, 1e3)
+            d, tris, s, p, tol = matched_tolerance(scene, name, target, *bounds)
             entries.append((name, d, tris, s, p, tol))
         if not scene.name.endswith('scans'):
             d, ms = decimated(scene, target)
@@ -1069,10 +1077,17 @@ def write_page(out, seconds=None, size=None):
         page.write('The CSV files beside this page hold every figure; `analysis.md` discusses '
                    'where we differ from the papers and why.\n\n')
         page.write('## The papers\' claims beside our measurements\n\n' + claims(rows) + '\n\n')
-        page.write('## Still images at equal triangle counts (SRCC Fig. 9)\n\n')
-        page.write(table(rows['still'], ['model', 'distance', 'method', 'triangles', 'psnr', 'ssim',
-                                         'select_ms', 'patch_ms', 'render_ms'],
-                         {'ssim': '{:.4f}', 'distance': '{:.3g}', 'triangles': '{:.0f}'}) + '\n\n')
+        page.write('## Still images at equal triangle counts (SRCC Fig. 9)\n\n'
+                   'Every method is matched to SRCC\'s triangle count by bisection on its tolerance '
+                   'scale (`tolerance`). Foveated is SRCC with its tolerances times exp(K D), K = 2 '
+                   '(this project\'s use of Cheng\'s distance D); Cheng is Cheng\'s own test (ERROR_CHENG: '
+                   'a cell is simplified when cos(min(pi, 2 theta)) > exp(-K D), full detail at the '
+                   'gaze point), matched by its rate K (`tolerance` is K). Both gaze at the image '
+                   'centre.\n\n')
+        page.write(table(rows['still'], ['model', 'distance', 'method', 'triangles', 'tolerance', 'psnr',
+                                         'ssim', 'select_ms', 'patch_ms', 'render_ms'],
+                         {'ssim': '{:.4f}', 'distance': '{:.3g}', 'triangles': '{:.0f}',
+                          'tolerance': '{:.3g}'}) + '\n\n')
         if rows['speed']:
             page.write('## Triangles and time against speed (TMM Fig. 8)\n\n'
                        'Steady translation at dt = 1/60 s. `frame_ms` is the median of select + patch + '
