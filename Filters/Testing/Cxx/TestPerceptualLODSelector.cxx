@@ -321,6 +321,12 @@ struct Pipeline
     this->Selector->SetViewAngle(angle);
     this->Selector->SetFrustumPlanes(planes);
   }
+  /// The object moved by `shift` along x since the previous frame (identity view now).
+  void MovedBy(double shift)
+  {
+    const double prev[16] = { 1, 0, 0, -shift, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+    this->Selector->SetPreviousObjectToViewMatrix(prev);
+  }
   vtkMultiscaleOctree* Cut()
   {
     this->Selector->Update();
@@ -494,8 +500,7 @@ TEST(PerceptualLODSelector, InverseAndDirectVelocityLaws)
       org[2] + o->GetRootEdge() / 2 };
     const double dist = std::sqrt(vtkMath::Distance2BetweenPoints(eye, c));
     const double shift = pixels * dist / ds;
-    double prev[16] = { 1, 0, 0, -shift, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
-    p.Selector->SetPreviousObjectToViewMatrix(prev);
+    p.MovedBy(shift);
     p.Cut();
     EXPECT_NEAR(p.Selector->GetObjectSpeed(), pixels, 1e-6 * std::max(1.0, pixels));
     return p.Selector->GetNumberOfDrawnNodes();
@@ -566,8 +571,7 @@ TEST(PerceptualLODSelector, MicroMotionScalesByFrameIntervalOverFrameTime)
   p.Selector->SetMotionModelToMicroMotion();
   p.Selector->HasPreviousFrameOn();
   auto cut = [&](double shift, double tm, double dt) {
-    double prev[16] = { 1, 0, 0, -shift, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
-    p.Selector->SetPreviousObjectToViewMatrix(prev);
+    p.MovedBy(shift);
     p.Selector->SetPreviousFrameTime(tm);
     p.Selector->SetFrameInterval(dt);
     auto state = p.Array(vtkMultiscaleOctree::CutStateArrayName());

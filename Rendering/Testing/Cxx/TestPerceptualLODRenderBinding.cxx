@@ -56,11 +56,16 @@ struct Scene
   int Builds = 0, Selections = 0, Patchings = 0;
 
   explicit Scene(unsigned seed = 1, int level = 6)
+    : Scene(plodtest::MakeBlob(seed, 60, 0.3), level)
+  {
+  }
+  /// Any model; level -1: the builder's automatic level.
+  Scene(vtkPolyData* model, int level)
   {
     this->Window->SetOffScreenRendering(1);
     this->Window->SetSize(400, 300);
     this->Window->AddRenderer(this->Renderer);
-    this->Builder->SetInputData(plodtest::MakeBlob(seed, 60, 0.3));
+    this->Builder->SetInputData(model);
     this->Builder->SetFinestLevel(level);
     this->Selector->SetInputConnection(this->Builder->GetOutputPort());
     this->Patches->SetInputConnection(this->Selector->GetOutputPort());
@@ -390,26 +395,13 @@ TEST(PerceptualLODRenderBinding, StanfordBunnyFollowsTheRenderedCamera)
   }
   auto bunny = plodtest::ReadPLY(dir + "/bun_zipper.ply");
   ASSERT_TRUE(bunny);
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(640, 480);
-  vtkNew<vtkRenderer> renderer;
-  window->AddRenderer(renderer);
-  vtkNew<vtkMultiscaleOctreeBuilder> builder;
-  builder->SetInputData(bunny);
-  vtkNew<vtkPerceptualLODSelector> selector;
-  selector->SetInputConnection(builder->GetOutputPort());
-  vtkNew<vtkMultiscalePatchGenerator> patches;
-  patches->SetInputConnection(selector->GetOutputPort());
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputConnection(patches->GetOutputPort());
-  vtkNew<vtkActor> actor;
-  actor->SetMapper(mapper);
-  renderer->AddActor(actor);
-  vtkNew<vtkPerceptualLODRenderBinding> binding;
-  binding->SetRenderer(renderer);
-  binding->SetSelector(selector);
-  binding->SetProp3D(actor);
+  // the test's usual pipeline and binding, on the scan, at the builder's automatic level
+  Scene scene(bunny, -1);
+  scene.Window->SetSize(640, 480);
+  vtkRenderWindow* window = scene.Window;
+  vtkRenderer* renderer = scene.Renderer;
+  vtkPerceptualLODSelector* selector = scene.Selector;
+  vtkMultiscalePatchGenerator* patches = scene.Patches;
   vtkCamera* camera = renderer->GetActiveCamera();
   renderer->ResetCamera(bunny->GetBounds());
   const vtkIdType input = bunny->GetNumberOfPolys();
