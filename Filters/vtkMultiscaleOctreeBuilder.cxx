@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMultiscaleOctreeBuilder.h"
 
+#include "plodBuildUtil.h"
 #include "plodOctreeBuilder.h"
 
 #include "vtkCellArray.h"
@@ -23,6 +24,7 @@
 #include <vtksys/SystemInformation.hxx>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 vtkStandardNewMacro(vtkMultiscaleOctreeBuilder);
@@ -81,6 +83,8 @@ vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
   , UseViewpoint(false)
   , MemoryLimit(0.0)
   , MultiThreaded(true)
+  , UseGivenRootCube(false)
+  , RootCubeEdge(0.0)
   , NumberOfSkippedTriangles(0)
   , NumberOfInvalidTriangles(0)
   , NumberOfDegenerateTriangles(0)
@@ -89,6 +93,7 @@ vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
   , BuildTime(0.0)
 {
   this->Viewpoint[0] = this->Viewpoint[1] = this->Viewpoint[2] = 0.0;
+  this->RootCubeOrigin[0] = this->RootCubeOrigin[1] = this->RootCubeOrigin[2] = 0.0;
 }
 
 //------------------------------------------------------------------------------
@@ -103,6 +108,61 @@ vtkMultiscaleOctreeBuilder::~vtkMultiscaleOctreeBuilder()
 int vtkMultiscaleOctreeBuilder::GetMaximumFinestLevel()
 {
   return plod::MaxFinestLevel;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultiscaleOctreeBuilder::ComputeRootCube(
+  const double bounds[6], double origin[3], double* edge)
+{
+  if (!bounds || !origin || !edge)
+  {
+    return false;
+  }
+  const double lo[3] = { bounds[0], bounds[2], bounds[4] };
+  const double hi[3] = { bounds[1], bounds[3], bounds[5] };
+  for (int a = 0; a < 3; ++a)
+  {
+    if (!std::isfinite(lo[a]) || !std::isfinite(hi[a]) || lo[a] > hi[a])
+    {
+      return false;
+    }
+  }
+  double o[3], e = 0.0;
+  if (!plod::build::PlaceRootCube(lo, hi, o, e, nullptr))
+  {
+    return false;
+  }
+  std::copy(o, o + 3, origin);
+  *edge = e;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+int vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(
+  const long long cellsPerLevel[22], long long numberOfPoints, bool cloud)
+{
+  static_assert(plod::MaxFinestLevel + 1 == 22, "one count per level 0..21");
+  if (!cellsPerLevel || cellsPerLevel[0] != 1)
+  {
+    return -1;
+  }
+  int64_t cells[plod::MaxFinestLevel + 1];
+  for (int l = 0; l <= plod::MaxFinestLevel; ++l)
+  {
+    cells[l] = static_cast<int64_t>(cellsPerLevel[l]);
+    // a cell has at most 8 children (compared by division: 8 * 8^20 overflows)
+    if (l > 0 && (cells[l] < cells[l - 1] || (cells[l] - 1) / 8 >= cells[l - 1]))
+    {
+      return -1;
+    }
+  }
+  if (numberOfPoints < cells[plod::MaxFinestLevel])
+  {
+    return -1;
+  }
+  // the kernel's rule, without lowering for memory (an infinite limit never lowers it)
+  return plod::ChooseFinestLevel(
+    cells, static_cast<int64_t>(numberOfPoints), 0, cloud, std::numeric_limits<double>::infinity());
 }
 
 //------------------------------------------------------------------------------
@@ -163,6 +223,13 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   if (!std::isfinite(this->UniformDiffuse) || !std::isfinite(this->UniformSpecular))
   {
     vtkErrorMacro("UniformDiffuse and UniformSpecular must be finite.");
+    return 0;
+  }
+  std::string cubeProblem;
+  if (this->UseGivenRootCube &&
+    !plod::build::ValidateRootCube(this->RootCubeOrigin, this->RootCubeEdge, &cubeProblem))
+  {
+    vtkErrorMacro("UseGivenRootCube: " << cubeProblem << ".");
     return 0;
   }
   if (!input || input->GetNumberOfPoints() == 0)
@@ -361,6 +428,9 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   params.FinestLevel = this->FinestLevel;
   params.Rule = this->VertexRule == VERTEX_QEF ? plod::VertexRule::QEF : plod::VertexRule::Mean;
   params.MemoryLimit = this->GetEffectiveMemoryLimit() * 1024.0 * 1024.0;
+  params.HasRootCube = this->UseGivenRootCube;
+  std::copy(this->RootCubeOrigin, this->RootCubeOrigin + 3, params.RootOrigin);
+  params.RootEdge = this->RootCubeEdge;
 
   plod::ParallelFor pfor = plod::SerialFor;
   if (this->MultiThreaded)
@@ -442,6 +512,10 @@ void vtkMultiscaleOctreeBuilder::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MemoryLimit: " << this->MemoryLimit << " MiB (0: automatic, now "
      << this->GetEffectiveMemoryLimit() << " MiB)\n";
   os << indent << "MultiThreaded: " << (this->MultiThreaded ? "On" : "Off") << "\n";
+  os << indent << "UseGivenRootCube: " << (this->UseGivenRootCube ? "On" : "Off") << "\n";
+  os << indent << "RootCubeOrigin: (" << this->RootCubeOrigin[0] << ", " << this->RootCubeOrigin[1]
+     << ", " << this->RootCubeOrigin[2] << ")\n";
+  os << indent << "RootCubeEdge: " << this->RootCubeEdge << "\n";
   os << indent << "NumberOfInputTriangles: " << this->NumberOfInputTriangles << "\n";
   os << indent << "NumberOfSkippedTriangles: " << this->NumberOfSkippedTriangles << "\n";
   os << indent << "NumberOfInvalidTriangles: " << this->NumberOfInvalidTriangles << "\n";

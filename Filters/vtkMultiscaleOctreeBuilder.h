@@ -76,6 +76,41 @@ public:
   /// Deepest level the octree can have (Morton keys of 3 x 21 bits).
   static int GetMaximumFinestLevel();
 
+  /**
+   * The root cube the builder places around points with the given bounds (xmin, xmax, ymin,
+   * ymax, zmin, zmax), by the same kernel function (plod::build::PlaceRootCube): a margin of
+   * 1/32 of the largest extent on each side and a small irrational shift. The bounds are those
+   * of the points the build uses: a mesh's points of at least one valid triangle, a cloud's
+   * finite points (vtkDataSet::GetBounds() also counts unused points, which gives another,
+   * equally usable cube). Returns false, leaving the outputs untouched, for bounds that are not
+   * finite or are empty (a minimum above its maximum, VTK's uninitialised bounds) and for an
+   * extent single-precision storage cannot represent (outside [1e-30, 1e30]).
+   */
+  static bool ComputeRootCube(const double bounds[6], double origin[3], double* edge);
+
+  /**
+   * The automatic finest level (FinestLevel -1) from counts, by the same kernel function
+   * (plod::ChooseFinestLevel), without the memory limit's lowering (the limit is per process;
+   * an explicit FinestLevel whose build would not fit fails instead). For distributed builds,
+   * where every process must use the same level:
+   * - `cellsPerLevel[l]`, l = 0..21: the number of occupied cells of level l of the root cube
+   *   over the points the build uses (see ComputeRootCube); non-decreasing, cellsPerLevel[0] = 1.
+   *   A point x lies in the level-21 cell c = min(2^21 - 1, floor((x - origin) * s)) on each
+   *   axis, s = 2^21 / edge computed first (as the builder does, for the same rounding), and in
+   *   the level-l cell c >> (21 - l). With ownership by cells of a level k,
+   *   the counts of levels k and finer are the sums over processes of the counts over their
+   *   own points; coarser levels need the union of the processes' occupied cells;
+   * - `numberOfPoints`: the number of points the build uses, duplicates included. The point-cloud
+   *   rule averages points per occupied cell; the mesh rule reads the number of distinct
+   *   positions from cellsPerLevel[21] and uses this number only to check the counts;
+   * - `cloud`: true for a point cloud (no polygons), false for a mesh.
+   * Returns the level (0 to 21), or -1 for counts that cannot come from points (cellsPerLevel[0]
+   * not 1, a count that decreases or grows more than 8 times from one level to the next, fewer
+   * points than cells of level 21). A cloud's level below 1 fails its build (see FinestLevel).
+   */
+  static int ChooseFinestLevelFromCounts(
+    const long long cellsPerLevel[22], long long numberOfPoints, bool cloud);
+
   ///@{
   /**
    * Finest level `L_m`. -1 (default) chooses it from the input (see the class docs); 0 builds
@@ -98,6 +133,29 @@ public:
   vtkGetMacro(VertexRule, int);
   void SetVertexRuleToMean() { this->SetVertexRule(VERTEX_MEAN); }
   void SetVertexRuleToQEF() { this->SetVertexRule(VERTEX_QEF); }
+  ///@}
+
+  ///@{
+  /**
+   * A root cube given by the caller instead of the one placed around the input: lower corner
+   * RootCubeOrigin and edge RootCubeEdge, in the input's coordinates, used when
+   * UseGivenRootCube is on (default off; origin default (0, 0, 0), edge default 0, which must be
+   * set). The octree's GetOrigin() and GetRootEdge() are then exactly these values, for meshes
+   * and point clouds. Every point the build uses must lie in the closed cube: a point outside
+   * is an error naming it and the cube, and gives an empty octree (points are never clamped).
+   * A cube that is not finite, has an edge outside [1e-30, 1.0625e30] (the edges the builder
+   * can place) or an edge below 1e-12 of its largest origin coordinate is an invalid parameter
+   * (error, RequestData fails). Unlike a placed cube it has no margin: points on its upper
+   * faces fall into its last cells, and a point cloud's surface is not contoured across its
+   * faces. For distributed rendering (see the class documentation).
+   */
+  vtkSetMacro(UseGivenRootCube, bool);
+  vtkGetMacro(UseGivenRootCube, bool);
+  vtkBooleanMacro(UseGivenRootCube, bool);
+  vtkSetVector3Macro(RootCubeOrigin, double);
+  vtkGetVector3Macro(RootCubeOrigin, double);
+  vtkSetMacro(RootCubeEdge, double);
+  vtkGetMacro(RootCubeEdge, double);
   ///@}
 
   ///@{
@@ -189,6 +247,9 @@ protected:
   bool UseViewpoint;
   double MemoryLimit;
   bool MultiThreaded;
+  bool UseGivenRootCube;
+  double RootCubeOrigin[3];
+  double RootCubeEdge;
 
   vtkIdType NumberOfSkippedTriangles;
   vtkIdType NumberOfInvalidTriangles;

@@ -94,10 +94,10 @@ void Quadric::Solve(const double mass[3], double truncation, double x[3]) const
   }
 }
 
-std::string FormatNumber(double x)
+std::string FormatNumber(double x, int digits)
 {
   char text[64];
-  std::snprintf(text, sizeof(text), "%.6g", x);
+  std::snprintf(text, sizeof(text), "%.*g", digits, x);
   return text;
 }
 
@@ -178,7 +178,7 @@ bool Reporter::operator()(double fraction)
 bool PlaceRootCube(
   const double lo[3], const double hi[3], double origin[3], double& rootEdge, std::string* why)
 {
-  constexpr double margin = 1.0 / 32.0;
+  constexpr double margin = RootMargin;
   constexpr double shift[3] = { 4.14213562e-4, 2.36067977e-4, 1.41592654e-4 };
   double extent = std::max({ hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] });
   const double far = std::max({ std::abs(lo[0]), std::abs(hi[0]), std::abs(lo[1]), std::abs(hi[1]),
@@ -191,7 +191,7 @@ bool PlaceRootCube(
   }
   // single-precision storage of vertices and shape errors relative to the origin: cells of the
   // finest level must stay normal floats, and the extent finite as a float
-  if (!(extent >= 1e-30) || !(extent <= 1e30))
+  if (!(extent >= MinRootExtent) || !(extent <= MaxRootExtent))
   {
     if (why)
     {
@@ -207,6 +207,59 @@ bool PlaceRootCube(
     origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * rootEdge - shift[a] * rootEdge;
   }
   return true;
+}
+
+bool ValidateRootCube(const double origin[3], double rootEdge, std::string* why)
+{
+  auto fail = [why](const std::string& text) {
+    if (why)
+    {
+      *why = text;
+    }
+    return false;
+  };
+  const std::string cube = "the given root cube (origin (" + FormatNumber(origin[0]) + ", " +
+    FormatNumber(origin[1]) + ", " + FormatNumber(origin[2]) + "), edge " + FormatNumber(rootEdge) +
+    ")";
+  if (!std::isfinite(origin[0]) || !std::isfinite(origin[1]) || !std::isfinite(origin[2]))
+  {
+    return fail(cube + " has a non-finite origin");
+  }
+  const double maxEdge = MaxRootExtent * (1.0 + 2.0 * RootMargin);
+  if (!(rootEdge >= MinRootExtent) || !(rootEdge <= maxEdge))
+  {
+    return fail(cube + " has an edge outside [" + FormatNumber(MinRootExtent) + ", " +
+      FormatNumber(maxEdge) + "], which single-precision vertices cannot represent");
+  }
+  const double far = std::max({ std::abs(origin[0]), std::abs(origin[1]), std::abs(origin[2]) });
+  if (!(rootEdge > far * 1e-12))
+  {
+    return fail(cube + " is too small for its distance from the world origin: double " +
+      "coordinates cannot resolve its cells (the edge must exceed 1e-12 of the largest origin " +
+      "coordinate)");
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    if (!std::isfinite(origin[a] + rootEdge))
+    {
+      return fail(cube + " has a far corner that is not finite");
+    }
+  }
+  return true;
+}
+
+std::string PointOutsideRootCube(
+  int64_t id, const double x[3], const double origin[3], double rootEdge)
+{
+  // all the digits: a point just outside a face must not print as lying on it
+  std::string text = "point " + std::to_string(id) + " (" + FormatNumber(x[0], 17) + ", " +
+    FormatNumber(x[1], 17) + ", " + FormatNumber(x[2], 17) + ") lies outside the given root cube [";
+  for (int a = 0; a < 3; ++a)
+  {
+    text += (a ? "] x [" : "") + FormatNumber(origin[a], 17) + ", " +
+      FormatNumber(origin[a] + rootEdge, 17);
+  }
+  return text + "]; give a cube that holds every point (the build does not clamp points into it)";
 }
 
 TriangleBoxTester::TriangleBoxTester(const double a[3], const double b[3], const double c[3])

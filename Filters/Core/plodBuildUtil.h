@@ -245,8 +245,41 @@ private:
 bool PlaceRootCube(
   const double lo[3], const double hi[3], double origin[3], double& rootEdge, std::string* why);
 
-/// A number in %g notation (std::to_string prints 1e-300 as 0.000000).
-std::string FormatNumber(double x);
+/// Margin PlaceRootCube adds on each side, as a fraction of the largest extent.
+constexpr double RootMargin = 1.0 / 32.0;
+/// Extents PlaceRootCube accepts (single-precision vertices and cells relative to the origin).
+constexpr double MinRootExtent = 1e-30;
+constexpr double MaxRootExtent = 1e30;
+
+/**
+ * Checks a root cube given by the caller (BuildParameters::HasRootCube) against the limits
+ * PlaceRootCube enforces on the cubes it places: a finite origin; an edge in [MinRootExtent,
+ * MaxRootExtent (1 + 2 RootMargin)], the range of the edges it can give; an edge above 1e-12 of
+ * the origin's largest coordinate (below it, double coordinates cannot resolve the cells, and
+ * PlaceRootCube never places such a cube); the far corner finite. Returns false with a message.
+ */
+bool ValidateRootCube(const double origin[3], double rootEdge, std::string* why);
+
+/// True when `x` lies in the closed cube [origin, origin + rootEdge]^3.
+inline bool InsideRootCube(const double x[3], const double origin[3], double rootEdge)
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    if (!(x[a] >= origin[a] && x[a] <= origin[a] + rootEdge))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// The error for input point `id` at `x` outside the given root cube.
+std::string PointOutsideRootCube(
+  int64_t id, const double x[3], const double origin[3], double rootEdge);
+
+/// A number in %g notation with `digits` significant digits (std::to_string prints 1e-300 as
+/// 0.000000); 17 digits give a double exactly.
+std::string FormatNumber(double x, int digits = 6);
 
 /// Index of the most significant set bit of a non-zero 64-bit word.
 inline int HighestBit(uint64_t x)

@@ -311,11 +311,33 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
     result.Warnings.push_back(std::to_string(result.NumberOfNonFinitePoints) +
       " point(s) with NaN or infinite coordinates skipped");
   }
-  std::string why;
-  if (!PlaceRootCube(lo, hi, out.Origin, out.RootEdge, &why))
+  if (params.HasRootCube)
   {
-    result.Error = why;
-    return false;
+    // the caller's cube (validated by BuildOctree), which must hold every finite point
+    std::copy(params.RootOrigin, params.RootOrigin + 3, out.Origin);
+    out.RootEdge = params.RootEdge;
+    if (!InsideRootCube(lo, out.Origin, out.RootEdge) ||
+      !InsideRootCube(hi, out.Origin, out.RootEdge))
+    {
+      for (int64_t i : finite)
+      {
+        const double x[3] = { X(i, 0), X(i, 1), X(i, 2) };
+        if (!InsideRootCube(x, out.Origin, out.RootEdge))
+        {
+          result.Error = PointOutsideRootCube(i, x, out.Origin, out.RootEdge);
+          return false;
+        }
+      }
+    }
+  }
+  else
+  {
+    std::string why;
+    if (!PlaceRootCube(lo, hi, out.Origin, out.RootEdge, &why))
+    {
+      result.Error = why;
+      return false;
+    }
   }
 
   // level: from the occupied cells of every level

@@ -582,6 +582,25 @@ bool MeshBuild::PlaceRoot()
     std::copy(this->S.ForcedOrigin, this->S.ForcedOrigin + 3, this->Origin);
     this->Edge = this->S.ForcedEdge;
   }
+  else if (this->Params.HasRootCube)
+  {
+    // the caller's cube (validated by BuildOctree): every point the build uses must be inside,
+    // since a clamped point would land in a cell that does not hold it
+    std::copy(this->Params.RootOrigin, this->Params.RootOrigin + 3, this->Origin);
+    this->Edge = this->Params.RootEdge;
+    if (!InsideRootCube(this->Lo, this->Origin, this->Edge) ||
+      !InsideRootCube(this->Hi, this->Origin, this->Edge))
+    {
+      for (int64_t i = 0; i < this->S.NumberOfPoints; ++i)
+      {
+        const double x[3] = { this->S.X(i, 0), this->S.X(i, 1), this->S.X(i, 2) };
+        if (this->Used[i] && !InsideRootCube(x, this->Origin, this->Edge))
+        {
+          return this->Fail(PointOutsideRootCube(i, x, this->Origin, this->Edge));
+        }
+      }
+    }
+  }
   else
   {
     std::string why;
@@ -2040,6 +2059,11 @@ BuildResult BuildOctree(const BuildInput& in, const BuildParameters& params,
   if (!(params.MemoryLimit > 0))
   {
     result.Error = "the memory limit must be positive";
+    return result;
+  }
+  if (params.HasRootCube &&
+    !build::ValidateRootCube(params.RootOrigin, params.RootEdge, &result.Error))
+  {
     return result;
   }
   Source source;

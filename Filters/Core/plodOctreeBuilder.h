@@ -40,7 +40,8 @@
  *    triangles repeating a point are dropped (they draw nothing at any cut); points used by no
  *    triangle are dropped;
  * 2. root cube around the bounds, with a margin of 1/32 of the extent on each side and a small
- *    irrational shift, so that no point lies on the root boundary;
+ *    irrational shift, so that no point lies on the root boundary (PlaceRootCube); or the cube
+ *    the caller gives (BuildParameters::HasRootCube), which must hold every point;
  * 3. points sorted by Morton key at level 21; the finest level chosen (see ChooseFinestLevel);
  * 4. tree: one leaf per occupied finest cell, parents up to the root; point ranges;
  * 5. surface: points, triangles sorted by owner node (the deepest node holding two of its
@@ -136,6 +137,19 @@ struct BuildParameters
   /// automatic level is lowered to fit it; a mesh at a level set by the user that would not fit
   /// fails, and so does a point cloud whose contoured surface would not.
   double MemoryLimit = 4.0e9;
+  /**
+   * A root cube given by the caller instead of the one PlaceRootCube would place around the
+   * input (for distributed builds: every process uses the cube of the global bounds). Meshes and
+   * point clouds use it as it is: lower corner RootOrigin, edge RootEdge (world units). It must
+   * pass build::ValidateRootCube (finite, an edge PlaceRootCube could give) and hold every point
+   * the build uses (a mesh: the points of its valid triangles; a cloud: its finite points) in
+   * the closed cube; a point outside is an error naming it (points are never clamped into it).
+   * Unlike a placed cube it has no margin: a point on its upper faces falls into the last cell,
+   * and a cloud's surface is not contoured across its faces.
+   */
+  bool HasRootCube = false;
+  double RootOrigin[3] = { 0, 0, 0 };
+  double RootEdge = 0;
 };
 
 /// Runs `body(begin, end)` over [0, n) split in ranges of at most `grain`, possibly in parallel.

@@ -11,6 +11,7 @@
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
@@ -32,11 +33,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <set>
+#include <sstream>
 
 using plodcheck::Angle;
 using plodcheck::Build;
@@ -1236,4 +1240,362 @@ TEST(MultiscaleOctreeBuilder, StanfordBunnyRangeScansMerged)
   EXPECT_GT(compared, 1000);
   EXPECT_GE(agree, 0.9 * compared) << "scan normals oriented towards their scanners";
   EXPECT_GE(compared, sampled / 2) << "the scan surface lies where the mesh is";
+}
+
+// ---- distributed rendering: a given root cube, the automatic level from counts, ghosts -------
+
+namespace
+{
+/// Every array of `a` but `skip` is in `b`, byte for byte.
+void ExpectSameArrays(
+  vtkFieldData* a, vtkFieldData* b, const std::string& what, const char* skip = nullptr)
+{
+  auto count = [skip](vtkFieldData* f) {
+    return f->GetNumberOfArrays() - ((skip && f->GetAbstractArray(skip)) ? 1 : 0);
+  };
+  ASSERT_EQ(count(a), count(b)) << what;
+  for (int i = 0; i < a->GetNumberOfArrays(); ++i)
+  {
+    vtkDataArray* x = a->GetArray(i);
+    ASSERT_TRUE(x) << what;
+    const std::string name = x->GetName();
+    if (skip && name == skip)
+      continue;
+    vtkDataArray* y = b->GetArray(name.c_str());
+    ASSERT_TRUE(y) << what << ": " << name;
+    ASSERT_EQ(x->GetDataType(), y->GetDataType()) << what << ": " << name;
+    ASSERT_EQ(x->GetNumberOfValues(), y->GetNumberOfValues()) << what << ": " << name;
+    const size_t bytes = size_t(x->GetNumberOfValues()) * size_t(x->GetDataTypeSize());
+    EXPECT_EQ(std::memcmp(x->GetVoidPointer(0), y->GetVoidPointer(0), bytes), 0)
+      << what << ": array " << name << " differs";
+  }
+}
+
+/// The same octree: root cube, level, and every node, cluster and surface array.
+void ExpectSameOctree(vtkMultiscaleOctree* a, vtkMultiscaleOctree* b, const std::string& what)
+{
+  for (int k = 0; k < 3; ++k)
+    EXPECT_EQ(a->GetOrigin()[k], b->GetOrigin()[k]) << what;
+  EXPECT_EQ(a->GetRootEdge(), b->GetRootEdge()) << what;
+  EXPECT_EQ(a->GetFinestLevel(), b->GetFinestLevel()) << what;
+  ExpectSameArrays(a->GetNodeData(), b->GetNodeData(), what + " (nodes)");
+  ExpectSameArrays(a->GetClusterData(), b->GetClusterData(), what + " (clusters)");
+  ExpectSameArrays(a->GetSurfaceData(), b->GetSurfaceData(), what + " (surface)", nullptr);
+}
+
+/// Occupied cells of every level 0..21 of the cube over the points of `pd` (all used).
+std::array<long long, 22> CountCells(vtkPointSet* pd, const double origin[3], double edge)
+{
+  std::array<std::set<std::array<uint32_t, 3>>, 22> cells;
+  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    pd->GetPoint(i, x);
+    const auto c = plodcheck::CellOf(x, origin, edge, 21);
+    for (int l = 0; l <= 21; ++l)
+      cells[l].insert({ c[0] >> (21 - l), c[1] >> (21 - l), c[2] >> (21 - l) });
+  }
+  std::array<long long, 22> counts;
+  for (int l = 0; l <= 21; ++l)
+    counts[l] = static_cast<long long>(cells[l].size());
+  return counts;
+}
+
+/// The kernel's input for a triangle mesh with double points.
+struct KernelMesh
+{
+  std::vector<double> Points;
+  std::vector<int64_t> Triangles;
+  plod::BuildInput Input() const
+  {
+    plod::BuildInput in;
+    in.NumberOfPoints = static_cast<int64_t>(this->Points.size() / 3);
+    in.Points = this->Points.data();
+    in.NumberOfTriangles = static_cast<int64_t>(this->Triangles.size() / 3);
+    in.Triangles = this->Triangles.data();
+    return in;
+  }
+};
+KernelMesh ToKernel(vtkPolyData* pd)
+{
+  KernelMesh m;
+  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    pd->GetPoint(i, x);
+    m.Points.insert(m.Points.end(), x, x + 3);
+  }
+  auto it = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    for (vtkIdType k = 1; k + 1 < n; ++k)
+      m.Triangles.insert(m.Triangles.end(), { ids[0], ids[k], ids[k + 1] });
+  }
+  return m;
+}
+} // namespace
+
+TEST(MultiscaleOctreeBuilder, GivenRootCubeIsTheOctreesCube)
+{
+  // a cube other than the one the builder would place: the octree's origin and edge are exactly
+  // the given ones, the level the given one, and the octree keeps every promise
+  auto blob = plodtest::MakeBlob(21, 30, 0.3);
+  const double origin[3] = { -1.75, -1.5, -1.625 };
+  const double edge = 3.5;
+  vtkNew<plodtest::ErrorRecorder> errors;
+  Built b = plodcheck::BuildInCube(blob, origin, edge, 5, errors);
+  EXPECT_TRUE(errors->Errors.empty());
+  ASSERT_GT(b.View.NumberOfNodes, 0);
+  for (int a = 0; a < 3; ++a)
+    EXPECT_EQ(b.Octree->GetOrigin()[a], origin[a]);
+  EXPECT_EQ(b.Octree->GetRootEdge(), edge);
+  EXPECT_EQ(b.Octree->GetFinestLevel(), 5);
+  CheckOctree(b, "given cube");
+  CheckSurfaceIsTheInput(b, blob, "given cube");
+
+  // the kernel alone, and a point exactly on the cube's upper faces (closed cube: in the last
+  // cell), another exactly on its lower corner
+  KernelMesh m = ToKernel(blob);
+  const int64_t corner = static_cast<int64_t>(m.Points.size() / 3);
+  m.Points.insert(m.Points.end(), { origin[0] + edge, origin[1] + edge, origin[2] + edge });
+  m.Points.insert(m.Points.end(), { origin[0], origin[1], origin[2] });
+  m.Triangles.insert(m.Triangles.end(), { 0, corner, corner + 1 });
+  plod::BuildParameters params;
+  params.FinestLevel = 4;
+  params.HasRootCube = true;
+  std::copy(origin, origin + 3, params.RootOrigin);
+  params.RootEdge = edge;
+  plod::OctreeStorage storage;
+  const plod::BuildResult r = plod::BuildOctree(m.Input(), params, storage.MakeAllocator());
+  ASSERT_TRUE(r.Ok) << r.Error;
+  for (int a = 0; a < 3; ++a)
+    EXPECT_EQ(r.Origin[a], origin[a]);
+  EXPECT_EQ(r.RootEdge, edge);
+  EXPECT_EQ(r.FinestLevel, 4);
+  std::string why;
+  EXPECT_TRUE(plod::ValidateOctree(storage.View(r), &why)) << why;
+
+  // a point cloud uses the given cube for its own
+  auto sphere = plodtest::MakeBlob(1, 60, 0.0);
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(sphere->GetPoints());
+  Built c = plodcheck::BuildInCube(cloud, origin, edge, 4, errors);
+  EXPECT_TRUE(errors->Errors.empty());
+  ASSERT_GT(c.View.NumberOfTriangles, 100);
+  for (int a = 0; a < 3; ++a)
+    EXPECT_EQ(c.Octree->GetOrigin()[a], origin[a]);
+  EXPECT_EQ(c.Octree->GetRootEdge(), edge);
+  EXPECT_EQ(c.Octree->GetFinestLevel(), 4);
+  EXPECT_TRUE(plod::ValidateOctree(c.View, &why)) << why;
+}
+
+TEST(MultiscaleOctreeBuilder, PointsOutsideTheGivenRootCubeAreErrorsNamingThem)
+{
+  // the cube [-1, 0.5]^3 cuts the blob (radius about 1): an error naming a point outside it and
+  // the cube, and an empty octree; nothing is clamped
+  auto blob = plodtest::MakeBlob(22, 20, 0.2);
+  const double origin[3] = { -1, -1, -1 };
+  {
+    vtkNew<plodtest::ErrorRecorder> errors;
+    Built b = plodcheck::BuildInCube(blob, origin, 1.5, 4, errors);
+    EXPECT_EQ(b.Octree->GetNumberOfNodes(), 0);
+    ASSERT_TRUE(errors->HasError("lies outside the given root cube [-1, 0.5] x [-1, 0.5] x [-1, "
+                                 "0.5]"))
+      << (errors->Errors.empty() ? "" : errors->Errors[0]);
+    // the point named is one of the input's and really lies outside
+    const std::string& text = errors->Errors[0];
+    const size_t at = text.find("point ");
+    ASSERT_NE(at, std::string::npos);
+    const vtkIdType id = std::stoll(text.substr(at + 6));
+    double x[3];
+    blob->GetPoint(id, x);
+    EXPECT_TRUE(x[0] > 0.5 || x[1] > 0.5 || x[2] > 0.5 || x[0] < -1 || x[1] < -1 || x[2] < -1);
+  }
+  // one point a rounding step outside an upper face: still outside
+  {
+    const double e = 2.0;
+    std::vector<double> xyz = { 0, 0, 0, 1, 0, 0, 0, 1, std::nextafter(-1.0 + e, 10.0) };
+    auto tri = plodtest::MakeMesh(xyz, { 0, 1, 2 });
+    const double o[3] = { -1, -1, -1 };
+    vtkNew<plodtest::ErrorRecorder> errors;
+    Built b = plodcheck::BuildInCube(tri, o, e, 3, errors);
+    EXPECT_EQ(b.Octree->GetNumberOfNodes(), 0);
+    EXPECT_TRUE(errors->HasError("point 2 (0, 1, 1.0000000000000002) lies outside"))
+      << (errors->Errors.empty() ? "" : errors->Errors[0]);
+    // exactly on the face: inside; a point no triangle uses is not looked at
+    xyz[8] = 1.0;
+    xyz.insert(xyz.end(), { 50, 50, 50 });
+    auto onFace = plodtest::MakeMesh(xyz, { 0, 1, 2 });
+    vtkNew<plodtest::ErrorRecorder> none;
+    Built f = plodcheck::BuildInCube(onFace, o, e, 3, none);
+    EXPECT_TRUE(none->Errors.empty());
+    EXPECT_EQ(f.View.NumberOfPoints, 3);
+    CheckOctree(f, "point on the upper face");
+  }
+  // a point cloud too
+  {
+    auto sphere = plodtest::MakeBlob(1, 30, 0.0);
+    vtkNew<vtkPolyData> cloud;
+    cloud->SetPoints(sphere->GetPoints());
+    vtkNew<plodtest::ErrorRecorder> errors;
+    Built b = plodcheck::BuildInCube(cloud, origin, 1.5, 4, errors);
+    EXPECT_EQ(b.Octree->GetNumberOfNodes(), 0);
+    EXPECT_TRUE(errors->HasError("lies outside the given root cube"));
+  }
+}
+
+TEST(MultiscaleOctreeBuilder, InvalidGivenRootCubesAreErrors)
+{
+  // the limits the builder's own placement respects: finite, an edge it could place, an edge the
+  // double coordinates can resolve at the cube's distance; the default edge (0) must be set
+  auto blob = plodtest::MakeBlob(23, 16, 0.2);
+  const double nan = std::nan("");
+  struct Case
+  {
+    double Origin[3];
+    double Edge;
+  };
+  const Case cases[] = { { { -2, -2, -2 }, 0 }, { { -2, -2, -2 }, -4 }, { { -2, -2, -2 }, nan },
+    { { -2, -2, -2 }, HUGE_VAL }, { { -2, -2, -2 }, 1e31 }, { { nan, -2, -2 }, 4 },
+    { { -2, -HUGE_VAL, -2 }, 4 }, { { 1e13, -2, -2 }, 4 } };
+  for (const Case& c : cases)
+  {
+    vtkNew<plodtest::ErrorRecorder> errors;
+    vtkNew<vtkMultiscaleOctreeBuilder> builder;
+    builder->SetInputData(blob);
+    builder->UseGivenRootCubeOn();
+    builder->SetRootCubeOrigin(c.Origin[0], c.Origin[1], c.Origin[2]);
+    builder->SetRootCubeEdge(c.Edge);
+    builder->AddObserver(vtkCommand::ErrorEvent, errors);
+    builder->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+    builder->Update();
+    EXPECT_TRUE(errors->HasError("UseGivenRootCube: the given root cube")) << c.Edge;
+    EXPECT_EQ(builder->GetOutput()->GetNumberOfNodes(), 0);
+    // the kernel refuses it as well
+    KernelMesh m = ToKernel(blob);
+    plod::BuildParameters params;
+    params.HasRootCube = true;
+    std::copy(c.Origin, c.Origin + 3, params.RootOrigin);
+    params.RootEdge = c.Edge;
+    plod::OctreeStorage storage;
+    const plod::BuildResult r = plod::BuildOctree(m.Input(), params, storage.MakeAllocator());
+    EXPECT_FALSE(r.Ok);
+    EXPECT_NE(r.Error.find("the given root cube"), std::string::npos) << r.Error;
+  }
+  // off, the cube's values are not looked at
+  vtkNew<vtkMultiscaleOctreeBuilder> off;
+  off->SetInputData(blob);
+  off->SetRootCubeEdge(-1);
+  off->Update();
+  EXPECT_GT(off->GetOutput()->GetNumberOfNodes(), 0);
+}
+
+TEST(MultiscaleOctreeBuilder, ComputeRootCubeIsTheCubeABuildPlaces)
+{
+  // from the bounds of models whose every point is used: exactly the cube of an unconstrained
+  // build; building in that cube gives the same octree, array for array
+  const double far[3] = { 1e4, -3e3, 7e2 };
+  const std::vector<std::pair<std::string, vtkSmartPointer<vtkPolyData>>> models = {
+    { "blob", plodtest::MakeBlob(24, 30, 0.3) }, { "cube", plodtest::MakeCube(-1, 2) },
+    { "tetrahedron", plodtest::MakeTetrahedron() }, { "flat plane", plodtest::MakePlane(0.3) },
+    { "far blob", plodtest::MakeBlob(25, 20, 0.3, 0.01, far) }
+  };
+  for (const auto& [name, model] : models)
+  {
+    double bounds[6], origin[3] = { 7, 7, 7 }, edge = 7;
+    model->GetBounds(bounds);
+    ASSERT_TRUE(vtkMultiscaleOctreeBuilder::ComputeRootCube(bounds, origin, &edge)) << name;
+    Built b = Build(model);
+    ASSERT_GT(b.View.NumberOfNodes, 0) << name;
+    for (int a = 0; a < 3; ++a)
+      EXPECT_EQ(origin[a], b.Octree->GetOrigin()[a]) << name;
+    EXPECT_EQ(edge, b.Octree->GetRootEdge()) << name;
+    Built g = plodcheck::BuildInCube(model, origin, edge, -1);
+    ExpectSameOctree(b.Octree, g.Octree, name);
+  }
+  // bounds that hold nothing, are not finite or too large: false, outputs untouched
+  const double nan = std::nan("");
+  const double bad[][6] = { { 1, -1, 1, -1, 1, -1 }, { 0, 1, 0, nan, 0, 1 },
+    { 0, HUGE_VAL, 0, 1, 0, 1 }, { 0, 1e31, 0, 1, 0, 1 } };
+  for (const auto& bounds : bad)
+  {
+    double origin[3] = { 7, 7, 7 }, edge = 7;
+    EXPECT_FALSE(vtkMultiscaleOctreeBuilder::ComputeRootCube(bounds, origin, &edge));
+    EXPECT_EQ(origin[0], 7);
+    EXPECT_EQ(edge, 7);
+  }
+}
+
+TEST(MultiscaleOctreeBuilder, ChooseFinestLevelFromCountsIsTheBuildsAutomaticLevel)
+{
+  // counts of occupied cells per level, made outside the builder, give the level the builder
+  // chooses: meshes of growing detail, an unwelded mesh (duplicated points), a point cloud
+  std::vector<std::pair<vtkSmartPointer<vtkPointSet>, bool>> inputs;
+  for (int res : { 6, 16, 40, 90 })
+    inputs.push_back({ plodtest::MakeBlob(26, res, 0.3), false });
+  {
+    auto blob = plodtest::MakeBlob(27, 20, 0.2);
+    std::vector<double> xyz;
+    std::vector<vtkIdType> tri;
+    auto it = vtk::TakeSmartPointer(blob->GetPolys()->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    {
+      vtkIdType n;
+      const vtkIdType* ids;
+      it->GetCurrentCell(n, ids);
+      for (int k = 0; k < 3; ++k)
+      {
+        double x[3];
+        blob->GetPoint(ids[k], x);
+        tri.push_back(static_cast<vtkIdType>(xyz.size() / 3));
+        xyz.insert(xyz.end(), x, x + 3);
+      }
+    }
+    inputs.push_back({ plodtest::MakeMesh(xyz, tri), false });
+  }
+  for (int res : { 40, 150 })
+  {
+    auto sphere = plodtest::MakeBlob(1, res, 0.1);
+    auto cloud = vtkSmartPointer<vtkPolyData>::New();
+    cloud->SetPoints(sphere->GetPoints());
+    inputs.push_back({ cloud, true });
+  }
+  std::set<int> levels;
+  for (const auto& [input, cloud] : inputs)
+  {
+    vtkNew<vtkMultiscaleOctreeBuilder> builder;
+    builder->SetInputData(input);
+    builder->Update();
+    const int built = builder->GetOutput()->GetFinestLevel();
+    ASSERT_GT(builder->GetOutput()->GetNumberOfNodes(), 0);
+    double bounds[6], origin[3], edge;
+    input->GetBounds(bounds);
+    ASSERT_TRUE(vtkMultiscaleOctreeBuilder::ComputeRootCube(bounds, origin, &edge));
+    const auto counts = CountCells(input, origin, edge);
+    EXPECT_EQ(vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(
+                counts.data(), input->GetNumberOfPoints(), cloud),
+      built)
+      << input->GetNumberOfPoints() << " points, cloud " << cloud;
+    levels.insert(built);
+  }
+  EXPECT_GE(levels.size(), 4u); // the cases really differ
+  // counts no set of points can give
+  std::array<long long, 22> counts;
+  counts.fill(1);
+  EXPECT_EQ(vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(counts.data(), 1, false), 0);
+  counts[0] = 2;
+  EXPECT_EQ(vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(counts.data(), 9, false), -1);
+  counts.fill(8);
+  counts[0] = 1;
+  counts[5] = 7; // decreasing
+  EXPECT_EQ(vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(counts.data(), 9, false), -1);
+  counts[5] = 8;
+  counts[1] = 9; // more than 8 children
+  EXPECT_EQ(vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(counts.data(), 9, false), -1);
+  counts[1] = 8;
+  EXPECT_EQ(vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(counts.data(), 7, true), -1);
+  EXPECT_EQ(vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(counts.data(), 8, false), 1);
 }

@@ -13,12 +13,16 @@
 #include "plodPatches.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkCommand.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
 #include "vtkNew.h"
+#include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
 
@@ -493,6 +497,45 @@ inline int64_t NonManifoldEdges(const std::vector<int64_t>& triangles)
   for (const auto& u : use)
     bad += u.second > 2;
   return bad;
+}
+
+/// Level-`level` cell of world point x in the root cube (origin, edge), computed as the builder
+/// does: its level-21 cell (clamped into the cube), shifted.
+inline std::array<uint32_t, 3> CellOf(
+  const double x[3], const double origin[3], double edge, int level)
+{
+  const double scale = std::ldexp(1.0, plod::MaxFinestLevel) / edge;
+  const uint32_t cells = 1u << plod::MaxFinestLevel;
+  std::array<uint32_t, 3> c;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double u = (x[a] - origin[a]) * scale;
+    c[a] = !(u >= 0) ? 0u : u >= double(cells) ? cells - 1 : static_cast<uint32_t>(u);
+    c[a] >>= plod::MaxFinestLevel - level;
+  }
+  return c;
+}
+
+/// Builds `input` in the given root cube at finest level `level`.
+inline Built BuildInCube(
+  vtkPolyData* input, const double origin[3], double edge, int level, vtkCommand* errors = nullptr)
+{
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(input);
+  builder->SetFinestLevel(level);
+  builder->UseGivenRootCubeOn();
+  builder->SetRootCubeOrigin(origin[0], origin[1], origin[2]);
+  builder->SetRootCubeEdge(edge);
+  if (errors)
+  {
+    builder->AddObserver(vtkCommand::ErrorEvent, errors);
+    builder->AddObserver(vtkCommand::WarningEvent, errors);
+  }
+  builder->Update();
+  Built b;
+  b.Octree = builder->GetOutput();
+  b.Octree->GetView(b.View);
+  return b;
 }
 
 } // namespace plodcheck
