@@ -10,6 +10,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -222,6 +223,38 @@ void vtkMultiscaleOctree::AllocateClusters(vtkIdType clusters)
 }
 
 //------------------------------------------------------------------------------
+void vtkMultiscaleOctree::AllocatePointGhosts()
+{
+  vtkNew<vtkUnsignedCharArray> a;
+  a->SetName(PointGhostArrayName());
+  a->SetNumberOfComponents(1);
+  a->SetNumberOfTuples(this->GetNumberOfSurfacePoints());
+  this->SurfaceData->AddArray(a);
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultiscaleOctree::HasPointGhosts()
+{
+  return FetchArray<vtkUnsignedCharArray>(this->SurfaceData, PointGhostArrayName(), 1,
+           this->GetNumberOfSurfacePoints()) != nullptr;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkMultiscaleOctree::GetNumberOfGhostPoints()
+{
+  auto* a = FetchArray<vtkUnsignedCharArray>(
+    this->SurfaceData, PointGhostArrayName(), 1, this->GetNumberOfSurfacePoints());
+  if (!a)
+  {
+    return 0;
+  }
+  const unsigned char* g = a->GetPointer(0);
+  return static_cast<vtkIdType>(
+    std::count_if(g, g + a->GetNumberOfTuples(), [](unsigned char x) { return x != 0; }));
+}
+
+//------------------------------------------------------------------------------
 bool vtkMultiscaleOctree::GetArrays(plod::OctreeArrays& out)
 {
   static_assert(sizeof(vtkIdType) == sizeof(int64_t), "vtkIdType must be 64-bit");
@@ -258,6 +291,14 @@ bool vtkMultiscaleOctree::GetArrays(plod::OctreeArrays& out)
   {
     return false;
   }
+  // optional: absent, no ghosts; present with another type or size, the octree is malformed
+  // (ignoring it would make every process draw every triangle)
+  auto* ghost = FetchArray<vtkUnsignedCharArray>(fd, PointGhostArrayName(), 1, np);
+  if (!ghost && fd->GetAbstractArray(PointGhostArrayName()))
+  {
+    return false;
+  }
+  out.PointGhost = ghost ? ghost->GetPointer(0) : nullptr;
   // the cluster arrays come later in a build: absent, their pointers stay null
   const vtkIdType nc = this->GetNumberOfClusters();
   auto* cnode = FetchArray<vtkIntArray>(this->ClusterData, ClusterNodeArrayName(), 1, nc);
@@ -335,6 +376,7 @@ bool vtkMultiscaleOctree::GetView(plod::OctreeView& view)
   view.PointLeaf = a.PointLeaf;
   view.PointCluster = a.PointCluster;
   view.InputPointId = a.InputPointId;
+  view.PointGhost = a.PointGhost;
   view.NumberOfTriangles = this->GetNumberOfSurfaceTriangles();
   view.Triangles = a.Triangles;
   return true;
@@ -579,6 +621,10 @@ void vtkMultiscaleOctree::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfNodes: " << this->GetNumberOfNodes() << "\n";
   os << indent << "NumberOfSurfacePoints: " << this->GetNumberOfSurfacePoints() << "\n";
   os << indent << "NumberOfSurfaceTriangles: " << this->GetNumberOfSurfaceTriangles() << "\n";
+  os << indent << "PointGhosts: "
+     << (this->HasPointGhosts() ? std::to_string(this->GetNumberOfGhostPoints()) + " ghost points"
+                                : std::string("none"))
+     << "\n";
   os << indent << "NodeData:\n";
   this->NodeData->PrintSelf(os, indent.GetNextIndent());
   os << indent << "SurfaceData:\n";

@@ -61,6 +61,14 @@
  * vtkIdType | 1 | each point's index in the builder's input (-1 for points contoured from a cloud)
  * | | `Triangles` | int | 3 | point indices, oriented as in the input, sorted by owner node |
  *
+ * One optional surface array, `PointGhost` (unsigned char, 1 component, one per point), exists
+ * when the builder's input carried VTK's point ghost array (vtkGhostType): 1 for a point owned by
+ * another process (bit DUPLICATEPOINT), else 0. vtkMultiscalePatchGenerator then draws a
+ * triangle only where its lead corner is not a ghost (distributed rendering: see there). Shallow
+ * and deep copies carry it with the other surface arrays; the .plod file does not store it
+ * (vtkMultiscaleOctreeWriter warns). An array of that name with another type or size makes the
+ * octree inconsistent.
+ *
  * Vertices and points are stored in single precision relative to the root origin, which is
  * kept in double: a model far from the world origin keeps full precision. GetNodeVertex()
  * returns world coordinates.
@@ -182,6 +190,15 @@ public:
   void Allocate(vtkIdType nodes, vtkIdType points, vtkIdType triangles);
   /// Creates the cluster arrays for `clusters` clusters (after Allocate).
   void AllocateClusters(vtkIdType clusters);
+  /// Creates the optional PointGhost surface array, one value per surface point (after
+  /// Allocate; contents undefined).
+  void AllocatePointGhosts();
+
+  ///@{
+  /// Whether the octree has the PointGhost surface array, and how many points it flags.
+  bool HasPointGhosts();
+  vtkIdType GetNumberOfGhostPoints();
+  ///@}
 
   ///@{
   /// Navigation. Invalid node ids give -1 (or 0 children).
@@ -238,6 +255,7 @@ public:
   static const char* NormalsArrayName() { return "Normals"; }
   static const char* PointLeafArrayName() { return "PointLeaf"; }
   static const char* InputPointIdArrayName() { return "InputPointId"; }
+  static const char* PointGhostArrayName() { return "PointGhost"; }
   static const char* TrianglesArrayName() { return "Triangles"; }
   ///@}
 

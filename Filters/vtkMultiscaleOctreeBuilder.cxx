@@ -8,6 +8,7 @@
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiscaleOctree.h"
@@ -20,6 +21,7 @@
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkTimerLog.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <vtksys/SystemInformation.hxx>
 
@@ -90,6 +92,7 @@ vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
   , NumberOfDegenerateTriangles(0)
   , NumberOfInputTriangles(0)
   , NumberOfUnsafeNodes(0)
+  , NumberOfGhostPoints(0)
   , BuildTime(0.0)
 {
   this->Viewpoint[0] = this->Viewpoint[1] = this->Viewpoint[2] = 0.0;
@@ -203,6 +206,7 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   this->NumberOfDegenerateTriangles = 0;
   this->NumberOfInputTriangles = 0;
   this->NumberOfUnsafeNodes = 0;
+  this->NumberOfGhostPoints = 0;
   this->FinestLevelReason.clear();
   this->BuildTime = 0.0;
   this->EstimatedMemory = 0.0;
@@ -364,6 +368,30 @@ int vtkMultiscaleOctreeBuilder::RequestData(
     std::copy(this->Viewpoint, this->Viewpoint + 3, in.Viewpoint);
   }
 
+  // ghost points (distributed rendering): VTK's point ghost array, bit DUPLICATEPOINT
+  std::vector<uint8_t> ghosts;
+  if (vtkAbstractArray* g =
+        input->GetPointData()->GetAbstractArray(vtkDataSetAttributes::GhostArrayName()))
+  {
+    auto* flags = vtkUnsignedCharArray::SafeDownCast(g);
+    if (!flags || flags->GetNumberOfComponents() != 1 || flags->GetNumberOfTuples() != np)
+    {
+      vtkErrorMacro("Ghost array '" << vtkDataSetAttributes::GhostArrayName() << "' has "
+                                    << g->GetNumberOfTuples() << " tuple(s) of "
+                                    << g->GetNumberOfComponents() << " component(s) of type "
+                                    << g->GetDataTypeAsString() << "; it needs " << np
+                                    << " unsigned char values (one per point). Empty octree.");
+      return 1;
+    }
+    ghosts.resize(np);
+    const unsigned char* f = flags->GetPointer(0);
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      ghosts[i] = (f[i] & vtkDataSetAttributes::DUPLICATEPOINT) ? 1 : 0;
+    }
+    in.PointGhost = ghosts.data();
+  }
+
   // material
   std::vector<float> pointDiffuse, pointSpecular, triDiffuse, triSpecular;
   bool hasMaterial = false;
@@ -456,6 +484,10 @@ int vtkMultiscaleOctreeBuilder::RequestData(
     output->AllocateClusters(static_cast<vtkIdType>(clusters));
     output->GetArrays(arrays);
   };
+  allocate.PointGhost = [output](int64_t, plod::OctreeArrays& arrays) {
+    output->AllocatePointGhosts();
+    output->GetArrays(arrays);
+  };
 
   const plod::BuildResult result = plod::BuildOctree(in, params, allocate, pfor, progress);
   timer->StopTimer();
@@ -465,6 +497,7 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   this->NumberOfSkippedTriangles =
     result.NumberOfInvalidTriangles + result.NumberOfDegenerateTriangles;
   this->NumberOfUnsafeNodes = result.NumberOfUnsafeNodes;
+  this->NumberOfGhostPoints = result.NumberOfGhostPoints;
   this->EstimatedMemory = result.EstimatedBytes;
   this->FinestLevelReason = result.LevelReason;
   for (const std::string& w : result.Warnings)
@@ -521,6 +554,7 @@ void vtkMultiscaleOctreeBuilder::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfInvalidTriangles: " << this->NumberOfInvalidTriangles << "\n";
   os << indent << "NumberOfDegenerateTriangles: " << this->NumberOfDegenerateTriangles << "\n";
   os << indent << "NumberOfUnsafeNodes: " << this->NumberOfUnsafeNodes << "\n";
+  os << indent << "NumberOfGhostPoints: " << this->NumberOfGhostPoints << "\n";
   os << indent << "FinestLevelReason: " << this->FinestLevelReason << "\n";
   os << indent << "BuildTime: " << this->BuildTime << " s\n";
   os << indent << "EstimatedMemory: " << this->EstimatedMemory / 1e6 << " MB\n";

@@ -223,6 +223,8 @@ public:
   const char* GetFinestLevelReason() { return this->FinestLevelReason.c_str(); }
   /// Wall-clock seconds of the last build.
   vtkGetMacro(BuildTime, double);
+  /// Surface points flagged as ghosts (the input's vtkGhostType) in the last build.
+  vtkGetMacro(NumberOfGhostPoints, vtkIdType);
   /// The estimate, in bytes, of the last build's own peak memory at the level it built (what
   /// the memory limit is compared with; the input not counted). 0 before a build.
   vtkGetMacro(EstimatedMemory, double);
@@ -256,6 +258,7 @@ protected:
   vtkIdType NumberOfDegenerateTriangles;
   vtkIdType NumberOfInputTriangles;
   vtkIdType NumberOfUnsafeNodes;
+  vtkIdType NumberOfGhostPoints;
   std::string FinestLevelReason;
   double BuildTime;
 

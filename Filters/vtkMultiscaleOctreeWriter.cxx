@@ -59,6 +59,14 @@ void vtkMultiscaleOctreeWriter::WriteData()
       vtkErrorCode::UnknownError);
     return;
   }
+  if (octree->GetNumberOfGhostPoints() > 0)
+  {
+    // the file format has no place for them: a process reading the file back draws every
+    // triangle of its piece
+    vtkWarningMacro("The octree flags " << octree->GetNumberOfGhostPoints()
+                                        << " ghost point(s) (distributed rendering); the file "
+                                           "does not store ghost flags.");
+  }
   plod::OctreeFileHeader header;
   octree->GetOrigin(header.Origin);
   header.RootEdge = octree->GetRootEdge();

@@ -17,8 +17,11 @@
  * The file holds every documented node, cluster and surface array, the root cube, the finest
  * level and the edge counts, in a versioned little-endian layout with checksums (see
  * plodOctreeFile.h in Filters/Core). The cut ("CutState", "CullMask") and any other array are
- * not saved: a cut belongs to a view. An octree that fails vtkMultiscaleOctree::IsConsistent()
- * is refused with an error, so a file always holds an octree the filters accept.
+ * not saved: a cut belongs to a view. Nor are ghost flags (the optional PointGhost array of a
+ * distributed build; the format is unchanged): writing an octree that flags ghost points warns,
+ * and the octree read back draws every triangle. An octree that fails
+ * vtkMultiscaleOctree::IsConsistent() is refused with an error, so a file always holds an octree
+ * the filters accept.
  *
  * @sa vtkMultiscaleOctreeReader vtkMultiscaleOctreeBuilder
  */

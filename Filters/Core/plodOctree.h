@@ -55,6 +55,10 @@
  *   each point), `InputPointId` (the index of each point in the input mesh, -1 for the points a
  *   point cloud's contouring made), `Triangles` (3 point indices each, oriented as in the input,
  *   sorted by owner).
+ * - `PointGhost` (optional, null when the input had no ghost flags): non-zero for a point owned
+ *   by another process (a distributed build's ghost); the patch generator draws a triangle only
+ *   when its lead corner, the corner with the smallest point index, is not a ghost
+ *   (plodPatches.h). Nothing else reads it.
  */
 #ifndef plodOctree_h
 #define plodOctree_h
@@ -112,6 +116,7 @@ struct OctreeView
   const int32_t* PointLeaf = nullptr;
   const int32_t* PointCluster = nullptr; // the leaf cluster of each point
   const int64_t* InputPointId = nullptr; // the input point of each surface point, -1 if none
+  const uint8_t* PointGhost = nullptr;   // per surface point, non-zero: a ghost; null: none
   int64_t NumberOfTriangles = 0;
   const int32_t* Triangles = nullptr; // 3 per triangle
 
@@ -220,6 +225,7 @@ struct OctreeArrays
   int32_t* PointLeaf = nullptr;
   int32_t* PointCluster = nullptr;
   int64_t* InputPointId = nullptr;
+  uint8_t* PointGhost = nullptr; // optional (Allocator::PointGhost)
   int32_t* Triangles = nullptr;
 };
 
@@ -229,7 +235,8 @@ struct OctreeArrays
  * and first children agreeing, leaves exactly at the finest level, point ranges nested and
  * covering every point once, each point's leaf holding it, triangle ranges increasing and
  * covering every triangle, triangle corners in range, clusters in node order with parents in the
- * parent node, each point's cluster in its leaf, cone angles in [0, pi], finite vertices.
+ * parent node, each point's cluster in its leaf, cone angles in [0, pi], finite vertices. The
+ * optional PointGhost array may be null; any byte value is valid in it (non-zero: a ghost).
  * Returns false and explains in `why`. An empty octree (no nodes) is valid.
  */
 bool ValidateOctree(const OctreeView& v, std::string* why = nullptr);

@@ -142,6 +142,7 @@ struct Source
   const int32_t* TrianglesF = nullptr;
   const float* Normals = nullptr;
   const int64_t* InputIds = nullptr; // null: the point's own index
+  const uint8_t* Ghost = nullptr;    // per point, non-zero: a ghost (meshes only)
   // material: per point (min and max arrays, possibly the same) or per triangle
   const float* DiffuseMin = nullptr;
   const float* DiffuseMax = nullptr;
@@ -791,6 +792,17 @@ bool MeshBuild::MakeTree()
   {
     return this->Fail("could not allocate the octree arrays");
   }
+  if (this->S.Ghost)
+  {
+    if (this->Allocate.PointGhost)
+    {
+      this->Allocate.PointGhost(this->Points, this->Out);
+    }
+    if (!this->Out.PointGhost)
+    {
+      return this->Fail("the input has ghost flags but the allocator gives no array for them");
+    }
+  }
   this->R.NumberOfNodes = this->Nodes;
   this->R.NumberOfPoints = this->Points;
   this->R.NumberOfTriangles = this->Tris;
@@ -853,8 +865,17 @@ bool MeshBuild::StoreSurface()
         o.Points[3 * r + a] = static_cast<float>(this->S.X(i, a) - this->Origin[a]);
       }
       o.InputPointId[r] = this->S.InputIds ? this->S.InputIds[i] : i;
+      if (o.PointGhost)
+      {
+        // each surface point keeps its input point's flag (and nothing else reads it here)
+        o.PointGhost[r] = this->S.Ghost[i] != 0 ? 1 : 0;
+      }
     }
   });
+  if (o.PointGhost)
+  {
+    this->R.NumberOfGhostPoints = std::count(o.PointGhost, o.PointGhost + this->Points, 1);
+  }
   // owner of each triangle: the deepest of the three pairwise common ancestors of its corners
   const int64_t nt = this->S.NumberOfTriangles;
   std::vector<int32_t> owner(nt, -1);
@@ -2096,6 +2117,12 @@ BuildResult BuildOctree(const BuildInput& in, const BuildParameters& params,
       source.SpecularMin = cloud.SpecularMin.data();
       source.SpecularMax = cloud.SpecularMax.data();
     }
+    if (in.PointGhost)
+    {
+      result.Warnings.push_back(
+        "ghost flags ignored: a point cloud's surface is contoured, its points are not input "
+        "points, so no flag carries over (every process draws its whole surface)");
+    }
     source.Forced = true;
     std::copy(cloud.Origin, cloud.Origin + 3, source.ForcedOrigin);
     source.ForcedEdge = cloud.RootEdge;
@@ -2114,6 +2141,7 @@ BuildResult BuildOctree(const BuildInput& in, const BuildParameters& params,
     source.SpecularMin = source.SpecularMax = in.PointSpecular;
     source.TriangleDiffuse = in.TriangleDiffuse;
     source.TriangleSpecular = in.TriangleSpecular;
+    source.Ghost = in.PointGhost;
   }
   source.UniformDiffuse = in.UniformDiffuse;
   source.UniformSpecular = in.UniformSpecular;

@@ -125,6 +125,12 @@ struct BuildInput
   const float* TriangleSpecular = nullptr;
   float UniformDiffuse = 1.0f;
   float UniformSpecular = 0.0f;
+
+  /// Meshes, optional: per point, non-zero when the point is a ghost (owned by another process:
+  /// VTK's vtkGhostType bit DUPLICATEPOINT). The flags change nothing in the build; each surface
+  /// point keeps its input point's flag in OctreeArrays::PointGhost. Point clouds: ignored, with
+  /// a warning (their surface's points are contoured, not input points, so no flag carries over).
+  const uint8_t* PointGhost = nullptr;
 };
 
 /// Build parameters.
@@ -169,6 +175,10 @@ struct Allocator
   std::function<OctreeArrays(int64_t numberOfNodes, int64_t numberOfPoints, int64_t triangles)>
     Nodes;
   std::function<void(int64_t numberOfClusters, OctreeArrays& arrays)> Clusters;
+  /// Called after `Nodes` only when the input has ghost flags (BuildInput::PointGhost, a mesh):
+  /// sets arrays.PointGhost to an array of `numberOfPoints` bytes. Unset, or leaving the pointer
+  /// null, fails the build (dropping the flags would make every process draw every triangle).
+  std::function<void(int64_t numberOfPoints, OctreeArrays& arrays)> PointGhost;
 };
 
 /// Called with the fraction done in [0, 1] (on the calling thread); return false to abort.
@@ -198,6 +208,7 @@ struct BuildResult
   int64_t NumberOfUnsafeNodes = 0;      // nodes without NodeTopologySafe
   int64_t NumberOfBoundaryEdges = 0;    // edges used by one triangle
   int64_t NumberOfNonManifoldEdges = 0; // edges used by more than two
+  int64_t NumberOfGhostPoints = 0;      // surface points flagged as ghosts
   double EstimatedBytes = 0;            // estimated peak of the build's own memory
 };
 

@@ -27,7 +27,7 @@ namespace plod
 
 struct OctreeStorage
 {
-  std::vector<uint8_t> Level, ChildMask, Flags;
+  std::vector<uint8_t> Level, ChildMask, Flags, PointGhost; // PointGhost: empty without ghosts
   std::vector<int32_t> Parent, FirstChild, FirstPoint, FirstCluster, ClusterNode, ClusterParent,
     PointLeaf, PointCluster, Triangles;
   std::vector<float> Vertex, ConeAxis, ConeAngle, ShapeError, Diffuse, Specular, Thickness,
@@ -65,6 +65,7 @@ struct OctreeStorage
     this->Make(this->PointCluster, points);
     this->Make(this->InputPointId, points);
     this->Make(this->Triangles, 3 * triangles);
+    this->PointGhost.clear();
     OctreeArrays o;
     o.Level = this->Level.data();
     o.Parent = this->Parent.data();
@@ -104,6 +105,13 @@ struct OctreeStorage
     o.ClusterNormal = this->ClusterNormal.data();
   }
 
+  /// The ghost flags, set into `o` (only for inputs with ghost flags).
+  void AllocatePointGhosts(int64_t points, OctreeArrays& o)
+  {
+    this->Make(this->PointGhost, points);
+    o.PointGhost = this->PointGhost.data();
+  }
+
   /// An Allocator for plod::BuildOctree writing into this storage (which must outlive it).
   Allocator MakeAllocator()
   {
@@ -112,6 +120,8 @@ struct OctreeStorage
       return this->AllocateNodes(nodes, points, triangles);
     };
     a.Clusters = [this](int64_t clusters, OctreeArrays& o) { this->AllocateClusters(clusters, o); };
+    a.PointGhost = [this](
+                     int64_t points, OctreeArrays& o) { this->AllocatePointGhosts(points, o); };
     return a;
   }
 
@@ -149,6 +159,7 @@ struct OctreeStorage
     v.PointLeaf = this->PointLeaf.data();
     v.PointCluster = this->PointCluster.data();
     v.InputPointId = this->InputPointId.data();
+    v.PointGhost = this->PointGhost.empty() ? nullptr : this->PointGhost.data();
     v.NumberOfTriangles = this->NumberOfTriangles;
     v.Triangles = this->Triangles.data();
     return v;

@@ -1271,7 +1271,7 @@ void ExpectSameArrays(
   }
 }
 
-/// The same octree: root cube, level, and every node, cluster and surface array.
+/// The same octree: root cube, level, and every node, cluster and surface array (ghosts apart).
 void ExpectSameOctree(vtkMultiscaleOctree* a, vtkMultiscaleOctree* b, const std::string& what)
 {
   for (int k = 0; k < 3; ++k)
@@ -1280,7 +1280,8 @@ void ExpectSameOctree(vtkMultiscaleOctree* a, vtkMultiscaleOctree* b, const std:
   EXPECT_EQ(a->GetFinestLevel(), b->GetFinestLevel()) << what;
   ExpectSameArrays(a->GetNodeData(), b->GetNodeData(), what + " (nodes)");
   ExpectSameArrays(a->GetClusterData(), b->GetClusterData(), what + " (clusters)");
-  ExpectSameArrays(a->GetSurfaceData(), b->GetSurfaceData(), what + " (surface)", nullptr);
+  ExpectSameArrays(a->GetSurfaceData(), b->GetSurfaceData(), what + " (surface)",
+    vtkMultiscaleOctree::PointGhostArrayName());
 }
 
 /// Occupied cells of every level 0..21 of the cube over the points of `pd` (all used).
@@ -1598,4 +1599,129 @@ TEST(MultiscaleOctreeBuilder, ChooseFinestLevelFromCountsIsTheBuildsAutomaticLev
   counts[1] = 8;
   EXPECT_EQ(vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(counts.data(), 7, true), -1);
   EXPECT_EQ(vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(counts.data(), 8, false), 1);
+}
+
+TEST(MultiscaleOctreeBuilder, GhostPointsChangeNothingButTheirFlags)
+{
+  // vtkGhostType on the input: the octree is the one built without it, array for array, plus
+  // each surface point's flag (bit DUPLICATEPOINT of its input point; other bits ignored)
+  auto blob = plodtest::MakeBlob(28, 40, 0.3);
+  auto ghosted = vtkSmartPointer<vtkPolyData>::New();
+  ghosted->ShallowCopy(blob);
+  vtkNew<vtkUnsignedCharArray> flags;
+  flags->SetName(vtkDataSetAttributes::GhostArrayName());
+  flags->SetNumberOfTuples(blob->GetNumberOfPoints());
+  int64_t expectedGhosts = 0;
+  for (vtkIdType i = 0; i < blob->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    blob->GetPoint(i, x);
+    unsigned char f = x[0] > 0.2 ? vtkDataSetAttributes::DUPLICATEPOINT : 0;
+    if (x[1] > 0.5)
+      f |= vtkDataSetAttributes::HIDDENPOINT; // not a ghost
+    flags->SetValue(i, f);
+    expectedGhosts += x[0] > 0.2;
+  }
+  ghosted->GetPointData()->AddArray(flags);
+  Built plain = Build(blob, 6);
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(ghosted);
+  builder->SetFinestLevel(6);
+  builder->Update();
+  Built g{ builder->GetOutput(), {} };
+  ASSERT_TRUE(g.Octree->GetView(g.View));
+  ExpectSameOctree(plain.Octree, g.Octree, "ghosts");
+  EXPECT_FALSE(plain.Octree->HasPointGhosts());
+  EXPECT_EQ(plain.View.PointGhost, nullptr);
+  ASSERT_TRUE(g.Octree->HasPointGhosts());
+  ASSERT_NE(g.View.PointGhost, nullptr);
+  for (int64_t p = 0; p < g.View.NumberOfPoints; ++p)
+  {
+    const bool ghost =
+      flags->GetValue(g.View.InputPointId[p]) & vtkDataSetAttributes::DUPLICATEPOINT;
+    ASSERT_EQ(g.View.PointGhost[p], ghost ? 1 : 0) << "surface point " << p;
+  }
+  EXPECT_GT(expectedGhosts, 100);
+  EXPECT_LT(expectedGhosts, blob->GetNumberOfPoints() - 100);
+  EXPECT_EQ(g.Octree->GetNumberOfGhostPoints(), expectedGhosts);
+  EXPECT_EQ(builder->GetNumberOfGhostPoints(), expectedGhosts);
+  CheckOctree(g, "ghosts");
+  // copies carry the flags; PrintSelf tells
+  vtkNew<vtkMultiscaleOctree> shallow, deep;
+  shallow->ShallowCopy(g.Octree);
+  deep->DeepCopy(g.Octree);
+  for (vtkMultiscaleOctree* o : { shallow.Get(), deep.Get() })
+  {
+    EXPECT_EQ(o->GetNumberOfGhostPoints(), expectedGhosts);
+    plod::OctreeView v;
+    ASSERT_TRUE(o->GetView(v));
+    EXPECT_EQ(std::memcmp(v.PointGhost, g.View.PointGhost, size_t(v.NumberOfPoints)), 0);
+  }
+  const char* name = vtkMultiscaleOctree::PointGhostArrayName();
+  EXPECT_EQ(shallow->GetSurfaceData()->GetArray(name), g.Octree->GetSurfaceData()->GetArray(name));
+  EXPECT_NE(deep->GetSurfaceData()->GetArray(name), g.Octree->GetSurfaceData()->GetArray(name));
+  std::ostringstream text;
+  g.Octree->PrintSelf(text, vtkIndent());
+  EXPECT_NE(text.str().find("PointGhosts: " + std::to_string(expectedGhosts) + " ghost points"),
+    std::string::npos);
+  // an array of that name with another type or size makes the octree inconsistent
+  vtkNew<vtkIntArray> wrong;
+  wrong->SetName(name);
+  wrong->SetNumberOfTuples(g.View.NumberOfPoints);
+  deep->GetSurfaceData()->AddArray(wrong);
+  EXPECT_FALSE(deep->IsConsistent());
+
+  // a ghost array of the wrong type or length: an error naming it, an empty octree
+  for (int wrongCase = 0; wrongCase < 2; ++wrongCase)
+  {
+    auto bad = vtkSmartPointer<vtkPolyData>::New();
+    bad->ShallowCopy(blob);
+    vtkSmartPointer<vtkDataArray> a;
+    if (wrongCase == 0)
+      a = vtkSmartPointer<vtkIntArray>::New();
+    else
+      a = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    a->SetName(vtkDataSetAttributes::GhostArrayName());
+    a->SetNumberOfTuples(blob->GetNumberOfPoints() - wrongCase);
+    a->Fill(0);
+    bad->GetPointData()->AddArray(a);
+    vtkNew<plodtest::ErrorRecorder> errors;
+    Built b = Build(bad, 4, vtkMultiscaleOctreeBuilder::VERTEX_QEF, errors);
+    EXPECT_TRUE(errors->HasError("Ghost array 'vtkGhostType'")) << wrongCase;
+    EXPECT_EQ(b.Octree->GetNumberOfNodes(), 0);
+  }
+
+  // a point cloud's flags are ignored, with a warning
+  {
+    auto sphere = plodtest::MakeBlob(1, 60, 0.0);
+    vtkNew<vtkPolyData> cloud;
+    cloud->SetPoints(sphere->GetPoints());
+    vtkNew<vtkUnsignedCharArray> cloudFlags;
+    cloudFlags->SetName(vtkDataSetAttributes::GhostArrayName());
+    cloudFlags->SetNumberOfTuples(cloud->GetNumberOfPoints());
+    cloudFlags->Fill(vtkDataSetAttributes::DUPLICATEPOINT);
+    cloud->GetPointData()->AddArray(cloudFlags);
+    vtkNew<plodtest::ErrorRecorder> warnings;
+    Built c = Build(cloud, 4, vtkMultiscaleOctreeBuilder::VERTEX_QEF, warnings);
+    ASSERT_GT(c.View.NumberOfTriangles, 0);
+    EXPECT_FALSE(c.Octree->HasPointGhosts());
+    bool warned = false;
+    for (const auto& w : warnings->Warnings)
+      warned = warned || w.find("ghost flags ignored") != std::string::npos;
+    EXPECT_TRUE(warned);
+  }
+
+  // the kernel with an allocator that gives no place for the flags: an error, not a silent drop
+  {
+    KernelMesh m = ToKernel(blob);
+    std::vector<uint8_t> ghost(m.Points.size() / 3, 1);
+    plod::BuildInput in = m.Input();
+    in.PointGhost = ghost.data();
+    plod::OctreeStorage storage;
+    plod::Allocator allocate = storage.MakeAllocator();
+    allocate.PointGhost = nullptr;
+    const plod::BuildResult r = plod::BuildOctree(in, plod::BuildParameters(), allocate);
+    EXPECT_FALSE(r.Ok);
+    EXPECT_NE(r.Error.find("ghost"), std::string::npos) << r.Error;
+  }
 }

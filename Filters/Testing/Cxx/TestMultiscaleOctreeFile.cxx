@@ -20,6 +20,7 @@
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
 
@@ -232,6 +233,47 @@ TEST(MultiscaleOctreeFile, MappedArraysOutliveTheReaderAndEditsStayInMemory)
   EXPECT_EQ(vertex->GetComponent(0, 0), 123.0);
   vertex = nullptr; // releases the mapping
   EXPECT_EQ(ReadBytes(path), before);
+  std::remove(path.c_str());
+}
+
+TEST(MultiscaleOctreeFile, GhostFlagsAreNotStoredAndTheWriterSaysSo)
+{
+  // the format is unchanged: an octree with ghost points (distributed rendering) is written
+  // with a warning, and reads back as the same octree without its flags
+  auto octree = BuildOctree(24);
+  const std::string path = TempPath("ghosts.plod");
+  vtkNew<plodtest::ErrorRecorder> quiet;
+  {
+    vtkNew<vtkMultiscaleOctreeWriter> writer;
+    writer->AddObserver(vtkCommand::WarningEvent, quiet);
+    writer->SetInputData(octree);
+    writer->SetFileName(path.c_str());
+    ASSERT_EQ(writer->Write(), 1);
+  }
+  EXPECT_TRUE(quiet->Warnings.empty()) << "no ghosts, no warning";
+  const std::vector<char> plain = ReadBytes(path);
+  octree->AllocatePointGhosts();
+  auto* flags = vtkUnsignedCharArray::SafeDownCast(
+    octree->GetSurfaceData()->GetArray(vtkMultiscaleOctree::PointGhostArrayName()));
+  ASSERT_NE(flags, nullptr);
+  for (vtkIdType p = 0; p < flags->GetNumberOfTuples(); ++p)
+    flags->SetValue(p, p % 3 == 0 ? 1 : 0);
+  ASSERT_TRUE(octree->IsConsistent());
+  vtkNew<plodtest::ErrorRecorder> warnings;
+  vtkNew<vtkMultiscaleOctreeWriter> writer;
+  writer->AddObserver(vtkCommand::WarningEvent, warnings);
+  writer->SetInputData(octree);
+  writer->SetFileName(path.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+  ASSERT_EQ(warnings->Warnings.size(), 1u);
+  EXPECT_NE(warnings->Warnings[0].find("does not store ghost flags"), std::string::npos)
+    << warnings->Warnings[0];
+  EXPECT_EQ(ReadBytes(path), plain) << "the same file as without the flags";
+  ReadResult r = Read(path);
+  ASSERT_TRUE(r.Error.empty()) << r.Error;
+  EXPECT_FALSE(r.Octree->HasPointGhosts());
+  octree->GetSurfaceData()->RemoveArray(vtkMultiscaleOctree::PointGhostArrayName());
+  ExpectIdentical(octree, r.Octree, "ghosts dropped");
   std::remove(path.c_str());
 }
 
