@@ -42,6 +42,7 @@ vtkMultiscalePatchGenerator::vtkMultiscalePatchGenerator()
   , CullBackFaces(true)
   , NumberOfFolds(0)
   , NumberOfCulledBackFaces(0)
+  , NumberOfGhostTriangles(0)
   , NumberOfTriangles(0)
   , NumberOfOutputPoints(0)
   , NodesVisited(0)
@@ -70,6 +71,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   this->NumberOfTriangles = this->NodesVisited = this->NumberOfOutputPoints = 0;
   this->NumberOfFolds = 0;
   this->NumberOfCulledBackFaces = 0;
+  this->NumberOfGhostTriangles = 0;
   this->GenerateTime = 0;
   if (!input || input->GetNumberOfNodes() == 0)
   {
@@ -234,6 +236,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   this->NodesVisited = r.NodesVisited;
   this->NumberOfFolds = r.Folds;
   this->NumberOfCulledBackFaces = r.BackFacesCulled;
+  this->NumberOfGhostTriangles = r.GhostSkipped;
   return 1;
 }
 
@@ -265,5 +268,6 @@ void vtkMultiscalePatchGenerator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfFolds: " << this->NumberOfFolds << "\n";
   os << indent << "CullBackFaces: " << (this->CullBackFaces ? "On" : "Off") << "\n";
   os << indent << "NumberOfCulledBackFaces: " << this->NumberOfCulledBackFaces << "\n";
+  os << indent << "NumberOfGhostTriangles: " << this->NumberOfGhostTriangles << "\n";
   os << indent << "GenerateTime: " << this->GenerateTime << " s\n";
 }

@@ -37,6 +37,19 @@
  * frustum plane (the "CullMask" array), and drawn otherwise (a large triangle can cross the view
  * while its corners lie outside it).
  *
+ * Distributed rendering (the octree has ghost flags: its builder's input carried vtkGhostType,
+ * see vtkMultiscaleOctreeBuilder): a triangle is drawn only if its lead corner, the corner with
+ * the smallest surface point index, is not a ghost. The rule applies to every triangle emitted
+ * (those of refined cells, of opened leaves, among hidden cells, and folds), before the others.
+ * Surface points are sorted by the Morton key of their finest cell (level 21), so the lead
+ * corner is the corner in the lowest cell, and every process that built with the same root cube
+ * and finest level agrees on it. With VTK's usual ghost convention, each point owned by exactly
+ * one process (a ghost on all the others), every triangle is therefore drawn by exactly one
+ * process: the owner of its lead corner. Only corners in one level-21 cell are ordered by their
+ * index in each process's own input; processes agree on those too when ownership goes by cells,
+ * as with a redistribution by the cells of some level. GetNumberOfGhostTriangles() counts the
+ * triangles left to other processes.
+ *
  * Without a "CutState" array the full resolution is drawn. An invalid octree or cut (a leaf
  * with no ancestor in it, a cut node below another, a state above 3) is an error and gives an
  * empty output.
@@ -137,6 +150,8 @@ public:
   /// with KEEP, which does not look for them).
   vtkGetMacro(NumberOfFolds, vtkIdType);
   vtkGetMacro(NumberOfCulledBackFaces, vtkIdType);
+  /// Triangles not drawn because their lead corner is a ghost (another process draws them).
+  vtkGetMacro(NumberOfGhostTriangles, vtkIdType);
   /// Wall-clock seconds of the last execution.
   vtkGetMacro(GenerateTime, double);
   ///@}
@@ -156,6 +171,7 @@ protected:
   bool CullBackFaces;
   vtkIdType NumberOfFolds;
   vtkIdType NumberOfCulledBackFaces;
+  vtkIdType NumberOfGhostTriangles;
   vtkIdType NumberOfTriangles;
   vtkIdType NumberOfOutputPoints;
   vtkIdType NodesVisited;

@@ -75,6 +75,7 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   out.HiddenSkipped = 0;
   out.Folds = 0;
   out.BackFacesCulled = 0;
+  out.GhostSkipped = 0;
   out.ReversedNormals.clear();
   if (v.NumberOfNodes == 0)
   {
@@ -180,6 +181,17 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
     for (int64_t t = begin; t < end; ++t)
     {
       const int32_t* c = &v.Triangles[3 * t];
+      if (v.PointGhost)
+      {
+        // another process draws it: the owner of its lead corner (an index out of range is
+        // left to the representative lookup, which reports it)
+        const int32_t lead = std::min({ c[0], c[1], c[2] });
+        if (lead >= 0 && lead < v.NumberOfPoints && v.PointGhost[lead] != 0)
+        {
+          ++out.GhostSkipped;
+          continue;
+        }
+      }
       int64_t rep[3];
       bool drawn = false, backFacing = false;
       uint8_t masks = 0x3f;

@@ -39,6 +39,19 @@
  * triangle faces away too), or if all three were culled by one common frustum plane (then the
  * whole triangle is outside it). Triangles among cells culled by different planes are drawn: a
  * large triangle can cross the view while its corners lie outside it.
+ *
+ * Ghosts (distributed rendering, OctreeView::PointGhost not null): a triangle is drawn only if
+ * its lead corner, the corner with the smallest surface point index, is not a ghost. The rule
+ * comes before every other one and applies to every triangle the walk would emit: those of
+ * refined nodes, of opened leaves, among hidden cells, and folds. Surface points are sorted by
+ * the Morton key of their level-21 cell, so the lead corner is the corner in the lowest cell;
+ * processes that build with the same root cube agree on it whatever else their pieces hold.
+ * With VTK's ghost convention (every point owned by exactly one process: a ghost everywhere
+ * else), each triangle held by several processes is therefore drawn by exactly one of them, the
+ * owner of its lead corner. One exception: two corners in the same level-21 cell are ordered by
+ * their index in each process's input, which processes need not share; they agree anyway when
+ * the points of a cell have one owner, as when ownership is assigned by cells (a cell of level
+ * 21 or coarser).
  */
 #ifndef plodPatches_h
 #define plodPatches_h
@@ -64,6 +77,7 @@ struct PatchResult
   int64_t HiddenSkipped = 0;      // owned triangles skipped among hidden cells
   int64_t Folds = 0;              // turned-over triangles found (dropped or given own corners)
   int64_t BackFacesCulled = 0;    // triangles facing away from the eye (CullBackFaces)
+  int64_t GhostSkipped = 0;       // triangles whose lead corner is a ghost (drawn elsewhere)
   /// FoldHandling::ReverseNormals: the output points (each a fold's own corner) whose normal
   /// is the reverse of their source's.
   std::vector<int32_t> ReversedNormals;

@@ -6,12 +6,15 @@
 #include "plodCut.h"
 #include "plodOctreeChecks.h"
 #include "plodPatches.h"
+#include "plodSelector.h"
 #include "plodTestUtilities.h"
 
 #include "vtkCallbackCommand.h"
+#include "vtkCamera.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCommand.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
@@ -21,6 +24,7 @@
 #include "vtkMultiscaleOctreeCutter.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
+#include "vtkPerceptualLODSelector.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkUnsignedCharArray.h"
@@ -845,4 +849,237 @@ TEST(MultiscalePatchGenerator, CutterModesMakeValidCuts)
     const bool leaf = b.Octree->GetNumberOfChildren(n) == 0;
     ASSERT_EQ(cut->GetValue(n), leaf ? plod::CutOpen : plod::NotInCut);
   }
+}
+
+// ---- distributed rendering: ghost points and the lead-corner rule ---------------------------
+
+namespace
+{
+/// Output triangles by their corners' coordinates, each rotated to start at its smallest corner
+/// (orientation kept).
+std::multiset<std::array<double, 9>> TrianglesByCoordinates(vtkPolyData* pd)
+{
+  std::multiset<std::array<double, 9>> out;
+  auto it = vtk::TakeSmartPointer(pd->GetPolys()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    std::array<std::array<double, 3>, 3> c;
+    for (int k = 0; k < 3; ++k)
+      pd->GetPoint(ids[k], c[k].data());
+    while (!(c[0] <= c[1] && c[0] <= c[2]))
+      std::rotate(c.begin(), c.begin() + 1, c.end());
+    out.insert({ c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2] });
+  }
+  return out;
+}
+
+/// A copy of `mesh` whose points with x above `split` (or not above, `above` false) are ghosts.
+vtkSmartPointer<vtkPolyData> WithGhosts(vtkPolyData* mesh, double split, bool above)
+{
+  auto copy = vtkSmartPointer<vtkPolyData>::New();
+  copy->ShallowCopy(mesh);
+  vtkNew<vtkUnsignedCharArray> flags;
+  flags->SetName(vtkDataSetAttributes::GhostArrayName());
+  flags->SetNumberOfTuples(mesh->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    mesh->GetPoint(i, x);
+    flags->SetValue(i, (x[0] > split) == above ? vtkDataSetAttributes::DUPLICATEPOINT : 0);
+  }
+  copy->GetPointData()->AddArray(flags);
+  return copy;
+}
+
+/// One process's pipeline: builder (optionally in a given cube), selector, cutter, generator.
+struct Process
+{
+  vtkNew<vtkMultiscaleOctreeBuilder> Builder;
+  vtkNew<vtkPerceptualLODSelector> Selector;
+  vtkNew<vtkMultiscaleOctreeCutter> Cutter;
+  vtkNew<vtkMultiscalePatchGenerator> Generator;
+  Process(vtkPolyData* mesh, int level, const double* origin = nullptr, double edge = 0)
+  {
+    this->Builder->SetInputData(mesh);
+    this->Builder->SetFinestLevel(level);
+    if (origin)
+    {
+      this->Builder->UseGivenRootCubeOn();
+      this->Builder->SetRootCubeOrigin(origin[0], origin[1], origin[2]);
+      this->Builder->SetRootCubeEdge(edge);
+    }
+    this->Selector->SetInputConnection(this->Builder->GetOutputPort());
+    this->Cutter->SetInputConnection(this->Builder->GetOutputPort());
+  }
+  /// Patches of the full resolution (no cut), a uniform level (>= 0) or the selector's cut (-2).
+  vtkPolyData* Draw(int level)
+  {
+    if (level == -1)
+      this->Generator->SetInputConnection(this->Builder->GetOutputPort());
+    else if (level == -2)
+      this->Generator->SetInputConnection(this->Selector->GetOutputPort());
+    else
+    {
+      this->Cutter->SetLevel(level);
+      this->Generator->SetInputConnection(this->Cutter->GetOutputPort());
+    }
+    this->Generator->Update();
+    return this->Generator->GetOutput();
+  }
+  void Look(const double eye[3], const double focus[3])
+  {
+    vtkNew<vtkCamera> camera;
+    camera->SetPosition(eye);
+    camera->SetFocalPoint(focus);
+    camera->SetViewAngle(30);
+    double planes[24];
+    camera->GetFrustumPlanes(16.0 / 9.0, planes);
+    this->Selector->SetEyePosition(eye[0], eye[1], eye[2]);
+    this->Selector->SetViewAngle(30);
+    this->Selector->SetFrustumPlanes(planes);
+    this->Selector->AddLight(false, 0.3, 0.6, 1.0, 0.8, 0.5);
+  }
+};
+
+/// The two processes' outputs are the whole's, triangle for triangle (coordinates compared
+/// exactly); processes that hold the whole mesh leave to each other at least what the other
+/// draws (`copies`).
+void ExpectSplit(
+  Process& a, Process& b, Process& whole, int level, const std::string& what, bool copies)
+{
+  const auto all = TrianglesByCoordinates(whole.Draw(level));
+  const vtkIdType nWhole = whole.Generator->GetNumberOfTriangles();
+  EXPECT_EQ(whole.Generator->GetNumberOfGhostTriangles(), 0) << what;
+  auto mine = TrianglesByCoordinates(a.Draw(level));
+  const vtkIdType nA = a.Generator->GetNumberOfTriangles();
+  const vtkIdType leftByA = a.Generator->GetNumberOfGhostTriangles();
+  const auto theirs = TrianglesByCoordinates(b.Draw(level));
+  const vtkIdType nB = b.Generator->GetNumberOfTriangles();
+  const vtkIdType leftByB = b.Generator->GetNumberOfGhostTriangles();
+  EXPECT_EQ(nA + nB, nWhole) << what;
+  if (nWhole > 20) // both draw a share
+  {
+    EXPECT_GT(nA, 0) << what;
+    EXPECT_GT(nB, 0) << what;
+  }
+  if (copies)
+  {
+    EXPECT_GE(leftByA, nB) << what;
+    EXPECT_GE(leftByB, nA) << what;
+  }
+  else
+  {
+    EXPECT_GT(leftByA + leftByB, 0) << what; // the pieces overlap
+  }
+  mine.insert(theirs.begin(), theirs.end());
+  EXPECT_TRUE(mine == all) << what << ": the union differs from the whole's output";
+}
+} // namespace
+
+TEST(MultiscalePatchGenerator, GhostLeadCornerRuleOverRandomCuts)
+{
+  // The rule, exactly: over random cuts with hidden cells and cull masks, the output is the
+  // expected clustering of the input minus every triangle whose corner of smallest surface index
+  // is a ghost; with the complementary flags the two outputs add up to the output without ghosts,
+  // folds included.
+  auto blob = plodtest::MakeBlob(31, 32, 0.3);
+  Built b = Build(WithGhosts(blob, 0.1, true), 5);
+  const plod::OctreeView& v = b.View;
+  ASSERT_NE(v.PointGhost, nullptr);
+  std::vector<uint8_t> complement(v.NumberOfPoints);
+  for (int64_t p = 0; p < v.NumberOfPoints; ++p)
+    complement[p] = v.PointGhost[p] ? 0 : 1;
+  plod::OctreeView other = v, none = v;
+  other.PointGhost = complement.data();
+  none.PointGhost = nullptr;
+  std::mt19937 rng(13);
+  std::uniform_int_distribution<int> plane(0, 5);
+  plod::PatchOptions keep, reverse;
+  keep.Folds = plod::FoldHandling::Keep;
+  int64_t split = 0;
+  for (int trial = 0; trial < 120; ++trial)
+  {
+    std::vector<uint8_t> cut = RandomCut(v, rng, 0.3);
+    std::vector<uint8_t> mask(v.NumberOfNodes, 0);
+    for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+      if (cut[n] == plod::CutHidden)
+        mask[n] = static_cast<uint8_t>(1u << plane(rng));
+    plod::PatchResult r, c, all;
+    std::string why;
+    ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), mask.data(), r, &why, nullptr, keep)) << why;
+    std::multiset<std::array<int64_t, 3>> expected;
+    int64_t ghosts = 0;
+    for (int64_t t = 0; t < v.NumberOfTriangles; ++t)
+    {
+      const int32_t* corner = &v.Triangles[3 * t];
+      int64_t rep[3];
+      bool drawn = false;
+      uint8_t common = 0x3f;
+      for (int k = 0; k < 3; ++k)
+      {
+        rep[k] = plodcheck::Representative(v, cut.data(), corner[k]);
+        const int64_t node = plodcheck::NodeOf(v, rep[k]);
+        drawn = drawn || cut[node] != plod::CutHidden;
+        if (cut[node] == plod::CutHidden)
+          common &= mask[node];
+      }
+      if (rep[0] == rep[1] || rep[1] == rep[2] || rep[0] == rep[2])
+        continue;
+      if (v.PointGhost[std::min({ corner[0], corner[1], corner[2] })])
+      {
+        ++ghosts;
+        continue;
+      }
+      if (!drawn && common)
+        continue;
+      expected.insert(plodcheck::Canonical(rep[0], rep[1], rep[2]));
+    }
+    ASSERT_EQ(plodcheck::DrawnTriangles(r), expected) << trial;
+    EXPECT_EQ(r.GhostSkipped, ghosts) << trial;
+    // complementary flags: the two halves are the whole, with either fold handling
+    for (const plod::PatchOptions& options : { keep, reverse })
+    {
+      ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), mask.data(), r, &why, nullptr, options));
+      ASSERT_TRUE(plod::GeneratePatches(other, cut.data(), mask.data(), c, &why, nullptr, options));
+      ASSERT_TRUE(
+        plod::GeneratePatches(none, cut.data(), mask.data(), all, &why, nullptr, options));
+      EXPECT_EQ(r.Triangles.size() + c.Triangles.size(), all.Triangles.size()) << trial;
+      EXPECT_EQ(r.Folds + c.Folds, all.Folds) << trial;
+      EXPECT_EQ(all.GhostSkipped, 0);
+      auto both = plodcheck::DrawnTriangles(r);
+      const auto second = plodcheck::DrawnTriangles(c);
+      both.insert(second.begin(), second.end());
+      EXPECT_EQ(both, plodcheck::DrawnTriangles(all)) << trial;
+      split += r.Triangles.empty() || c.Triangles.empty() ? 0 : 1;
+    }
+  }
+  EXPECT_GT(split, 100); // both sides drew something in most cuts
+}
+
+TEST(MultiscalePatchGenerator, GhostFlagsSplitEveryCutBetweenTwoCopies)
+{
+  // Two processes hold the whole mesh, each point owned by exactly one of them (a plane splits
+  // them): at the full resolution, at every uniform level and at a view-dependent cut (back faces
+  // culled, folds on their own points), their outputs add up to the output of the mesh without
+  // ghosts, triangle for triangle.
+  auto blob = plodtest::MakeBlob(32, 40, 0.3);
+  const int L = 5;
+  Process whole(blob, L), a(WithGhosts(blob, -0.2, true), L), b(WithGhosts(blob, -0.2, false), L);
+  for (int level : { -1, 0, 1, 2, 3, 4, 5 })
+    ExpectSplit(a, b, whole, level, "level " + std::to_string(level), true);
+  const double eye[3] = { 2.5, 1.2, 3.0 }, focus[3] = { 0.2, 0, 0 };
+  for (Process* p : { &whole, &a, &b })
+    p->Look(eye, focus);
+  ExpectSplit(a, b, whole, -2, "view-dependent cut", true);
+  EXPECT_GT(whole.Generator->GetNumberOfCulledBackFaces(), 0);
+  EXPECT_TRUE(whole.Selector->GetOutput()->HasValidCut());
+  // without the ghost array, nothing changes: a process draws everything
+  Process plain(blob, L);
+  plain.Draw(3);
+  whole.Draw(3);
+  EXPECT_EQ(plain.Generator->GetNumberOfTriangles(), whole.Generator->GetNumberOfTriangles());
+  EXPECT_EQ(plain.Generator->GetNumberOfGhostTriangles(), 0);
 }
