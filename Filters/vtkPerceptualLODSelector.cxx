@@ -104,6 +104,7 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , ContourTolerance(1.0)
   , BrightnessTolerance(4.0)
   , TopologyTolerance(1.0)
+  , MinimumLevel(0)
   , ViewAngle(30.0)
   , UseFrustum(false)
   , ParallelProjection(false)
@@ -301,6 +302,7 @@ int vtkPerceptualLODSelector::RequestData(
   in.ContourTolerance = this->ContourTolerance;
   in.BrightnessTolerance = this->BrightnessTolerance;
   in.TopologyTolerance = this->TopologyTolerance;
+  in.MinimumLevel = this->MinimumLevel;
   in.UseOctreeMaterial = input->GetHasMaterialArrays();
   in.Diffuse = this->DiffuseReflectance;
   in.Specular = this->SpecularReflectance;
@@ -561,6 +563,7 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ContourTolerance: " << this->ContourTolerance << " px\n";
   os << indent << "TopologyTolerance: " << this->TopologyTolerance << " px\n";
   os << indent << "BrightnessTolerance: " << this->BrightnessTolerance << "\n";
+  os << indent << "MinimumLevel: " << this->MinimumLevel << "\n";
   os << indent << "EyePosition: (" << this->EyePosition[0] << ", " << this->EyePosition[1] << ", "
      << this->EyePosition[2] << ")\n";
   os << indent << "ViewAngle: " << this->ViewAngle << " deg\n";

@@ -68,7 +68,7 @@
  * - material: with the octree's DiffuseRange and SpecularRange, each light adds
  *   L (M_max c_max - M_min c_min) to the brightness change (TMM eq. 8-9), else the constant
  *   DiffuseReflectance and SpecularReflectance.
- * Frustum culling applies in every mode.
+ * Frustum culling applies in every mode, and so does MinimumLevel (distributed rendering).
  *
  * Monotonicity: lowering a tolerance never makes a drawn cell coarser, and faster micro motion
  * never makes one finer. Moving the eye away never makes a drawn cell finer once the eye is a
@@ -243,6 +243,22 @@ public:
   ///@}
 
   ///@{
+  /**
+   * For distributed rendering: cells coarser than this level are incomplete on each rank (each
+   * process holds a piece of the mesh, complete only in cells of this level and finer), so every
+   * cell of a level below it is refined without any test but the frustum's: it is never
+   * accepted, never hidden as back-facing, and culled only when its box lies wholly outside a
+   * frustum plane. A leaf coarser than it is opened. Default 0 (no effect), clamped to [0, 21].
+   * Every process must also use the whole's back-face mode, set explicitly (BACK_FACES_HIDDEN
+   * for a closed whole): the automatic mode looks at each process's piece, which is open, and
+   * would draw back faces the whole hides. See vtkMultiscaleOctreeBuilder for the rest of the
+   * scheme.
+   */
+  vtkSetClampMacro(MinimumLevel, int, 0, 21);
+  vtkGetMacro(MinimumLevel, int);
+  ///@}
+
+  ///@{
   /// The view. Eye position default (0, 0, 1); view angle in degrees (default 30); viewport
   /// size in pixels (default 1920 x 1080).
   vtkSetVector3Macro(EyePosition, double);
@@ -399,6 +415,7 @@ protected:
   double ContourTolerance;
   double BrightnessTolerance;
   double TopologyTolerance;
+  int MinimumLevel;
   double EyePosition[3];
   double ViewAngle;
   int ViewportSize[2];

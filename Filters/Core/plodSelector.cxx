@@ -160,6 +160,10 @@ bool ValidateSelectionInput(const SelectionInput& in, std::string* why)
   {
     return fail("foveation parameters must be finite (height > 0)");
   }
+  if (in.MinimumLevel < 0 || in.MinimumLevel > MaxFinestLevel)
+  {
+    return fail("the minimum level must be in [0, 21]");
+  }
   return true;
 }
 
@@ -305,6 +309,13 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
         }
         continue;
       }
+    }
+    // a cell coarser than the minimum level (incomplete on each process of a distributed
+    // rendering) is refined without any other test
+    if (level < in.MinimumLevel)
+    {
+      refine(e, false);
+      continue;
     }
     // a cell holding the eye has an unbounded error: refine it
     const bool eyeInside = in.Eye[0] >= lo[0] && in.Eye[0] <= lo[0] + h && in.Eye[1] >= lo[1] &&

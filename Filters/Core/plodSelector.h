@@ -66,6 +66,10 @@
  * tolerances by `exp(K D)` (this project's combination of Cheng's D with SRCC).
  * Frustum culling and the eye-inside rule apply in every mode; the topology rule (tubes) in every
  * mode but Cheng's.
+ * Minimum level (distributed rendering): a cell coarser than SelectionInput::MinimumLevel is
+ * refined without any test but the frustum's (step 1), in every mode: its content is
+ * incomplete in each process's piece, so its errors, cone and vertex say nothing about the
+ * whole surface. A leaf coarser than it is opened.
  */
 #ifndef plodSelector_h
 #define plodSelector_h
@@ -182,6 +186,10 @@ struct SelectionInput
   double FoveationHeight = 1;              // object mode: H
   double FoveationWeights[2] = { 1, 1 };   // w_h, w_v
   double GazeDirection[3] = { 0, 0, -1 };  // screen mode: unit gaze ray from the eye
+
+  /// Cells of a level below this one are always refined unless culled by the frustum (see the
+  /// file documentation); 0 (default) changes nothing. In [0, MaxFinestLevel].
+  int MinimumLevel = 0;
 };
 
 struct SelectionStats
@@ -219,8 +227,8 @@ bool ChengAccepts(double cosT, double sinT, double rate, double D);
 int DistanceLevel(double rootEdge, int finestLevel, double pixelThreshold, double viewAngle,
   double distance, double pixels);
 
-/// Checks an input: finite numbers, positive scales and PSEC factor, unit-ish vectors. Explains
-/// in `why`.
+/// Checks an input: finite numbers, positive scales and PSEC factor, unit-ish vectors, a minimum
+/// level in [0, MaxFinestLevel]. Explains in `why`.
 bool ValidateSelectionInput(const SelectionInput& in, std::string* why);
 
 /**

@@ -568,3 +568,80 @@ TEST(SelectorExact, EyeInsideACellRefinesIt)
   out.ContourTolerance = out.BrightnessTolerance = 1e9;
   EXPECT_NE(t.RootReason(out), plod::ReasonNone);
 }
+
+// ---- minimum level (distributed rendering) ----------------------------------------------------
+
+TEST(SelectorExact, MinimumLevelRefinesCoarserCellsWithoutAnyOtherTest)
+{
+  // Huge tolerances accept the root; with MinimumLevel 1 the root (level 0) is refined and its
+  // child (level 1, not below the minimum) is judged as usual: accepted by its size, not opened.
+  Tiny t;
+  auto in = Above(10);
+  in.ContourTolerance = in.BrightnessTolerance = 1e9;
+  EXPECT_NE(t.RootReason(in), plod::ReasonNone);
+  in.MinimumLevel = 1;
+  int child = -1;
+  EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::AcceptedSize);
+  // not hidden as back-facing: the eye behind the surface (the root's cone faces away)
+  auto behind = Viewer(0.5, 0.5, 0.5 - 10);
+  EXPECT_EQ(t.RootReason(behind), plod::BackFacing);
+  behind.MinimumLevel = 1;
+  EXPECT_EQ(t.RootReason(behind, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::BackFacing); // the child is judged: it faces away too
+  // every mode: SCVC, Distance and Cheng accept the root at these settings, not with the minimum
+  for (plod::ErrorModel model :
+    { plod::ErrorModel::SCVC, plod::ErrorModel::Distance, plod::ErrorModel::Cheng })
+  {
+    auto m = Above(10);
+    m.Error = model;
+    m.ContourTolerance = 1e9;
+    m.FoveationRate = 100; // Cheng: a threshold near 0 at D > 0 (no fovea: D = 0, T = 1)
+    m.Foveation = plod::FoveationMode::Screen;
+    m.GazeDirection[0] = 1;
+    m.GazeDirection[2] = 0;
+    if (model != plod::ErrorModel::Cheng)
+      m.Foveation = plod::FoveationMode::Off;
+    EXPECT_NE(t.RootReason(m), plod::ReasonNone) << int(model);
+    m.MinimumLevel = 1;
+    EXPECT_EQ(t.RootReason(m), plod::ReasonNone) << int(model);
+  }
+  // above the finest level: the leaf is opened (drawn at full resolution)
+  in.MinimumLevel = 2;
+  EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::OpenedLeaf);
+  // the frustum still culls: the root wholly outside a plane is culled whatever the minimum
+  in.UseFrustum = true;
+  for (auto& plane : in.Planes)
+  {
+    plane[0] = plane[1] = 0;
+    plane[2] = 1;
+    plane[3] = 0; // z >= 0: the whole octree is inside
+  }
+  in.Planes[5][2] = -1;
+  in.Planes[5][3] = -2; // z <= -2: the root lies outside
+  EXPECT_EQ(t.RootReason(in), plod::Culled);
+  // the child alone outside a plane (x >= 0.6): culled at level 1 after the refinement
+  in.Planes[5][0] = 1;
+  in.Planes[5][2] = 0;
+  in.Planes[5][3] = -0.6;
+  EXPECT_EQ(t.RootReason(in, &child), plod::ReasonNone);
+  EXPECT_EQ(child, plod::Culled);
+}
+
+TEST(SelectorExact, MinimumLevelMustBeALevel)
+{
+  auto in = Above(10);
+  std::string why;
+  for (int level : { 0, 5, plod::MaxFinestLevel })
+  {
+    in.MinimumLevel = level;
+    EXPECT_TRUE(plod::ValidateSelectionInput(in, &why)) << level << ": " << why;
+  }
+  for (int level : { -1, plod::MaxFinestLevel + 1, 1000 })
+  {
+    in.MinimumLevel = level;
+    EXPECT_FALSE(plod::ValidateSelectionInput(in, &why)) << level;
+    EXPECT_NE(why.find("minimum level"), std::string::npos) << why;
+  }
+}

@@ -25,8 +25,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
+#include <sstream>
 
 namespace
 {
@@ -920,4 +922,83 @@ TEST(PerceptualLODSelector, ReExecutesOnlyOnChangeAndNeverRebuilds)
   EXPECT_EQ(selections, 10);
   EXPECT_GT(p.Selector->GetNumberOfVisitedNodes(), 0);
   EXPECT_GE(p.Selector->GetSelectTime(), 0.0);
+}
+
+TEST(PerceptualLODSelector, MinimumLevelRefinesEveryCoarserCellButCulledOnes)
+{
+  // Distributed rendering: with MinimumLevel m no cut cell is coarser than m unless it is
+  // culled; a cell outside the frustum is still culled whatever its level; MinimumLevel 0 gives
+  // the previous cut exactly.
+  Pipeline p(plodtest::MakeBlob(8, 40, 0.3), 6);
+  p.Selector->AddLight(false, 0.3, 0.6, 1.0, 0.8, 0.5);
+  p.Selector->SetContourTolerance(4); // coarse cells accepted without the minimum
+  const double focus[3] = { 0.6, 0.2, 0 };
+  const std::vector<std::array<double, 3>> eyes = { { 0.8, 0.3, 2.5 }, { -4, 1, 6 }, { 9, -2, 1 } };
+  int culledBelow = 0; // cut cells coarser than the minimum: all culled, and some exist
+  for (const auto& eye : eyes)
+  {
+    p.Look(eye.data(), focus);
+    p.Selector->SetMinimumLevel(0);
+    const auto state0 = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+    const auto reason0 = p.Array(vtkPerceptualLODSelector::CutReasonArrayName());
+    plod::OctreeView v;
+    ASSERT_TRUE(p.Cut()->GetView(v));
+    int coarsest = 99;
+    for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+      if (state0[n] != plod::NotInCut && reason0[n] != plod::Culled)
+        coarsest = std::min<int>(coarsest, v.Level[n]);
+    for (int m : { 1, 3, 5, 6 })
+    {
+      p.Selector->SetMinimumLevel(m);
+      ASSERT_TRUE(p.Cut()->HasValidCut()) << m;
+      const auto state = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+      const auto reason = p.Array(vtkPerceptualLODSelector::CutReasonArrayName());
+      int atMinimum = 0;
+      for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+      {
+        if (state[n] == plod::NotInCut)
+          continue;
+        if (v.Level[n] < m)
+        {
+          ASSERT_EQ(reason[n], plod::Culled) << "eye " << eye[0] << " level " << int(v.Level[n]);
+          ++culledBelow;
+        }
+        atMinimum += v.Level[n] == m && reason[n] != plod::Culled;
+      }
+      if (m > coarsest)
+      {
+        EXPECT_GT(atMinimum, 0) << m; // cells the view would accept coarser stop at m
+      }
+      // the frustum still culls: the cells the walk without the minimum culls at levels up to m
+      // are culled with it (the walk reaches them: their ancestors are coarser than m)
+      for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+      {
+        if (state0[n] != plod::NotInCut && reason0[n] == plod::Culled && v.Level[n] <= m)
+        {
+          EXPECT_EQ(reason[n], plod::Culled) << "a culled cell of level " << int(v.Level[n]);
+        }
+      }
+    }
+    // the previous cut exactly
+    p.Selector->SetMinimumLevel(0);
+    EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), state0);
+    EXPECT_EQ(p.Array(vtkPerceptualLODSelector::CutReasonArrayName()), reason0);
+    EXPECT_LT(coarsest, 3) << "the view without the minimum accepts coarse cells";
+  }
+  EXPECT_GT(culledBelow, 0);
+  // a view that sees none of the object: the root is culled whatever the minimum
+  const double away[3] = { 0, 0, 5 }, sky[3] = { 0, 0, 10 };
+  p.Look(away, sky);
+  p.Selector->SetMinimumLevel(4);
+  p.Cut();
+  EXPECT_EQ(p.Selector->GetNumberOfCutNodes(), 1);
+  EXPECT_EQ(p.Array(vtkPerceptualLODSelector::CutReasonArrayName())[0], plod::Culled);
+  // clamped to [0, 21], printed
+  p.Selector->SetMinimumLevel(-3);
+  EXPECT_EQ(p.Selector->GetMinimumLevel(), 0);
+  p.Selector->SetMinimumLevel(40);
+  EXPECT_EQ(p.Selector->GetMinimumLevel(), 21);
+  std::ostringstream text;
+  p.Selector->PrintSelf(text, vtkIndent());
+  EXPECT_NE(text.str().find("MinimumLevel: 21"), std::string::npos);
 }
