@@ -52,6 +52,32 @@
  * model whose extent single-precision storage cannot represent (outside [1e-30, 1e30]) is an
  * error. Errors give an empty octree.
  *
+ * Distributed rendering (each process builds from its piece of a mesh; no crack may open along
+ * the pieces' borders):
+ * 1. every process builds with the same root cube, the cube of the global bounds
+ *    (ComputeRootCube() on them, then UseGivenRootCube with RootCubeOrigin and RootCubeEdge),
+ *    and the same FinestLevel (an explicit one: the automatic level and the memory limit's
+ *    lowering would follow each piece; ChooseFinestLevelFromCounts() gives the automatic level
+ *    of the whole from per-level counts). Cells, Morton order and the order of the surface
+ *    points then agree between processes, and a cell whose points and triangles are all in a
+ *    piece gets the vertices, clusters and shape error the whole mesh's build gives it;
+ * 2. the point array vtkGhostType (vtkDataSetAttributes::GhostArrayName(), unsigned char), when
+ *    present, is read: points with the bit DUPLICATEPOINT set are owned by another process.
+ *    Ghost points take part in the build exactly like the others; the octree keeps each surface
+ *    point's flag (vtkMultiscaleOctree's PointGhost array) for vtkMultiscalePatchGenerator, which
+ *    draws a triangle only where its lead corner is not a ghost. Other bits are ignored, and so
+ *    is a cell ghost array. A point cloud's ghost flags are ignored with a warning: its surface
+ *    is contoured, so its points are not input points and no flag carries over;
+ * 3. vtkPerceptualLODSelector::SetMinimumLevel makes the cells coarser than the level at which
+ *    pieces are complete always refined, and the selector's back-face mode is set explicitly to
+ *    the whole's (a piece is an open surface: the automatic mode would decide per piece).
+ * Cells of that level or finer that a piece holds completely (their points, the triangles at
+ * them and the triangles passing through them) then get the same vertices, clusters, cones,
+ * errors and flags as in the whole's build, and so the same cut; the processes' outputs add up
+ * to the whole's, triangle for triangle (tested at the full resolution, uniform levels and a
+ * view-dependent cut). A piece that lacks a triangle passing through one of its complete cells
+ * without a corner in it gets a narrower cone there.
+ *
  * @warning A tube thinner than a cell collapses into a line when that cell is drawn at its
  * vertex; the topology flag makes the selector refine such cells while they cover more than a
  * pixel (vtkPerceptualLODSelector::SetTopologyTolerance).

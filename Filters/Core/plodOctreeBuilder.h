@@ -66,6 +66,15 @@
  * signed distance to the oriented points (Hoppe et al. 1992) at the corners of the occupied cells
  * of the cloud's finest level, and dual contouring of its sign changes at that one level; then
  * the mesh is built as above, one leaf per contoured cell.
+ *
+ * Distributed builds (one piece of a mesh per process, drawn without cracks along the pieces'
+ * borders): every process builds with the same given root cube and the same finest level, so
+ * that the Morton keys, the cells and the order of the surface points agree between processes,
+ * and a cell whose content (its points and the triangles at them) is complete in a piece gets
+ * the vertices, clusters and shape error of the whole mesh's build. Ghost flags (BuildInput::
+ * PointGhost: points owned by another process) take part in nothing the build computes; the
+ * octree only keeps them (OctreeArrays::PointGhost) for the patch generator, which draws a
+ * triangle only where its lead corner is not a ghost (plodPatches.h).
  */
 #ifndef plodOctreeBuilder_h
 #define plodOctreeBuilder_h

@@ -1725,3 +1725,90 @@ TEST(MultiscaleOctreeBuilder, GhostPointsChangeNothingButTheirFlags)
     EXPECT_NE(r.Error.find("ghost"), std::string::npos) << r.Error;
   }
 }
+
+TEST(MultiscaleOctreeBuilder, PiecesWithASharedCubeAndLevelMatchTheWholeBuild)
+{
+  // Distributed rendering as the plugin does it: the level-k cells of the cube are owned by two
+  // processes (split by the plane x = centre); each piece holds the triangles at its own cells
+  // and complete copies of the neighbour cells they touch, its points outside its own cells
+  // flagged as ghosts. Built with the cube of the whole and its level, every cell of level k or
+  // finer that a piece holds completely exists in the whole's build, with the same children,
+  // vertex, clusters, cone, shape error and flags; and every such cell of the whole exists in the
+  // piece.
+  auto blob = plodtest::MakeBlob(29, 48, 0.3);
+  double bounds[6], origin[3], edge;
+  blob->GetBounds(bounds);
+  ASSERT_TRUE(vtkMultiscaleOctreeBuilder::ComputeRootCube(bounds, origin, &edge));
+  const int L = 5, k = 2;
+  Built whole = plodcheck::BuildInCube(blob, origin, edge, L);
+  ASSERT_GT(whole.View.NumberOfNodes, 0);
+  const plod::OctreeView& w = whole.View;
+  std::map<std::array<int, 4>, int64_t> wholeNodes;
+  for (int64_t n = 0; n < w.NumberOfNodes; ++n)
+  {
+    int c[3];
+    w.CellCoordinates(n, c);
+    wholeNodes[{ w.Level[n], c[0], c[1], c[2] }] = n;
+  }
+  for (int side = 0; side < 2; ++side)
+  {
+    const std::string what = "piece " + std::to_string(side);
+    const plodcheck::Piece piece = plodcheck::MakePiece(blob, origin, edge, k,
+      [side](const std::array<uint32_t, 3>& c) { return (c[0] < 2) == (side == 0); });
+    ASSERT_FALSE(piece.Owned.empty());
+    ASSERT_GT(piece.Complete.size(), piece.Owned.size()); // it holds neighbours
+    ASSERT_LT(piece.Mesh->GetNumberOfCells(), blob->GetNumberOfCells());
+    vtkNew<plodtest::ErrorRecorder> errors;
+    Built b = plodcheck::BuildInCube(piece.Mesh, origin, edge, L, errors);
+    EXPECT_TRUE(errors->Errors.empty()) << what;
+    const plod::OctreeView& v = b.View;
+    ASSERT_GT(v.NumberOfNodes, 0) << what;
+    for (int a = 0; a < 3; ++a)
+      EXPECT_EQ(b.Octree->GetOrigin()[a], origin[a]) << what;
+    EXPECT_EQ(b.Octree->GetRootEdge(), edge) << what;
+    EXPECT_EQ(v.FinestLevel, L) << what;
+    CheckOctree(b, what);
+    int64_t compared = 0;
+    for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+    {
+      if (v.Level[n] < k)
+        continue;
+      int c[3];
+      v.CellCoordinates(n, c);
+      const int shift = v.Level[n] - k;
+      if (!piece.Complete.count(
+            { uint32_t(c[0] >> shift), uint32_t(c[1] >> shift), uint32_t(c[2] >> shift) }))
+        continue;
+      const auto found = wholeNodes.find({ v.Level[n], c[0], c[1], c[2] });
+      ASSERT_NE(found, wholeNodes.end()) << what << " node " << n;
+      const int64_t m = found->second;
+      ++compared;
+      EXPECT_EQ(v.ChildMask[n], w.ChildMask[m]) << what << " node " << n;
+      EXPECT_EQ(v.Flags[n], w.Flags[m]) << what << " node " << n;
+      EXPECT_EQ(v.ShapeError[n], w.ShapeError[m]) << what << " node " << n;
+      EXPECT_EQ(v.ConeAngle[n], w.ConeAngle[m]) << what << " node " << n;
+      EXPECT_EQ(v.PointEnd(n) - v.FirstPoint[n], w.PointEnd(m) - w.FirstPoint[m]) << what;
+      ASSERT_EQ(v.ClusterEnd(n) - v.FirstCluster[n], w.ClusterEnd(m) - w.FirstCluster[m]) << what;
+      for (int a = 0; a < 3; ++a)
+      {
+        EXPECT_EQ(v.Vertex[3 * n + a], w.Vertex[3 * m + a]) << what << " node " << n;
+        EXPECT_EQ(v.ConeAxis[3 * n + a], w.ConeAxis[3 * m + a]) << what << " node " << n;
+        for (int64_t j = 0; j < v.ClusterEnd(n) - v.FirstCluster[n]; ++j)
+          EXPECT_EQ(v.ClusterVertex[3 * (v.FirstCluster[n] + j) + a],
+            w.ClusterVertex[3 * (w.FirstCluster[m] + j) + a])
+            << what << " node " << n << " cluster " << j;
+      }
+    }
+    // and the whole has no cell there that the piece lacks
+    int64_t expected = 0;
+    for (const auto& [key, m] : wholeNodes)
+    {
+      const int shift = key[0] - k;
+      expected += key[0] >= k &&
+        piece.Complete.count(
+          { uint32_t(key[1] >> shift), uint32_t(key[2] >> shift), uint32_t(key[3] >> shift) });
+    }
+    EXPECT_EQ(compared, expected) << what;
+    EXPECT_GT(compared, 200) << what;
+  }
+}

@@ -1083,3 +1083,51 @@ TEST(MultiscalePatchGenerator, GhostFlagsSplitEveryCutBetweenTwoCopies)
   EXPECT_EQ(plain.Generator->GetNumberOfTriangles(), whole.Generator->GetNumberOfTriangles());
   EXPECT_EQ(plain.Generator->GetNumberOfGhostTriangles(), 0);
 }
+
+TEST(MultiscalePatchGenerator, PiecesWithGhostsDrawTheWholeOnce)
+{
+  // The plugin's scheme end to end: two processes own the level-k cells on either side of the
+  // cube's middle plane, hold their triangles plus complete copies of the neighbour cells, flag
+  // the points of cells they do not own as ghosts, build with the whole's cube and level, and
+  // refine every cell coarser than k. Their outputs add up to the whole's at the full
+  // resolution, at every uniform level from k on and at a view-dependent cut.
+  auto blob = plodtest::MakeBlob(33, 48, 0.3);
+  double bounds[6], origin[3], edge;
+  blob->GetBounds(bounds);
+  ASSERT_TRUE(vtkMultiscaleOctreeBuilder::ComputeRootCube(bounds, origin, &edge));
+  const int L = 5, k = 2;
+  auto half = [&](bool low) {
+    return plodcheck::MakePiece(
+      blob, origin, edge, k, [low](const std::array<uint32_t, 3>& c) { return (c[0] < 2) == low; });
+  };
+  const plodcheck::Piece p0 = half(true), p1 = half(false);
+  Process whole(blob, L, origin, edge), a(p0.Mesh, L, origin, edge), b(p1.Mesh, L, origin, edge);
+  for (int level : { -1, 2, 3, 4, 5 })
+    ExpectSplit(a, b, whole, level, "pieces, level " + std::to_string(level), false);
+  const double eye[3] = { -1.5, 2.0, 3.0 }, focus[3] = { 0.1, 0, 0 };
+  for (Process* p : { &whole, &a, &b })
+  {
+    p->Look(eye, focus);
+    p->Selector->SetMinimumLevel(k);
+    // a piece is an open surface: the automatic back-face mode would draw its back faces where
+    // the whole (closed) hides them; every process must use the whole's mode
+    p->Selector->SetBackFaceModeToHidden();
+  }
+  ExpectSplit(a, b, whole, -2, "pieces, view-dependent cut", false);
+  EXPECT_GT(whole.Generator->GetNumberOfCulledBackFaces(), 0);
+  // every cut cell is of level k or finer, or culled
+  plod::OctreeView v;
+  vtkMultiscaleOctree* cut = a.Selector->GetOutput();
+  ASSERT_TRUE(cut->GetView(v));
+  auto* state = vtkUnsignedCharArray::SafeDownCast(
+    cut->GetNodeData()->GetArray(vtkMultiscaleOctree::CutStateArrayName()));
+  auto* reason = vtkUnsignedCharArray::SafeDownCast(
+    cut->GetNodeData()->GetArray(vtkPerceptualLODSelector::CutReasonArrayName()));
+  for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+  {
+    if (state->GetValue(n) != plod::NotInCut && v.Level[n] < k)
+    {
+      EXPECT_EQ(reason->GetValue(n), plod::Culled) << n;
+    }
+  }
+}

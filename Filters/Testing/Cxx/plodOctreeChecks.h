@@ -516,6 +516,85 @@ inline std::array<uint32_t, 3> CellOf(
   return c;
 }
 
+/// One process's piece of a mesh in a distributed rendering (what the plugin's redistribution
+/// makes), with the level-k cells it owns and those it holds completely.
+struct Piece
+{
+  vtkSmartPointer<vtkPolyData> Mesh; // all the input's points (unused ones are dropped by the
+                                     // builder), the piece's triangles in input order, and the
+                                     // point array vtkGhostType
+  std::set<std::array<uint32_t, 3>> Owned;    // level-k cells owned
+  std::set<std::array<uint32_t, 3>> Complete; // level-k cells held with all their content
+};
+
+/**
+ * The piece of the process owning the level-`k` cells for which `owns(cell)` is true: every
+ * triangle with a corner in an owned cell, plus every triangle meeting a level-k cell those
+ * triangles touch (complete copies of the neighbour cells: their points, the triangles at those
+ * points, and the triangles passing through them); points outside the owned cells are ghosts
+ * (vtkGhostType, bit DUPLICATEPOINT).
+ */
+template <typename Owns>
+Piece MakePiece(vtkPolyData* mesh, const double origin[3], double edge, int k, Owns owns)
+{
+  Piece piece;
+  const vtkIdType np = mesh->GetNumberOfPoints();
+  std::vector<std::array<uint32_t, 3>> cell(np);
+  for (vtkIdType i = 0; i < np; ++i)
+  {
+    double x[3];
+    mesh->GetPoint(i, x);
+    cell[i] = CellOf(x, origin, edge, k);
+    if (owns(cell[i]))
+      piece.Owned.insert(cell[i]);
+  }
+  std::vector<std::array<vtkIdType, 3>> tris;
+  {
+    auto it = vtk::TakeSmartPointer(mesh->GetPolys()->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+    {
+      vtkIdType n;
+      const vtkIdType* ids;
+      it->GetCurrentCell(n, ids);
+      for (vtkIdType j = 1; j + 1 < n; ++j)
+        tris.push_back({ ids[0], ids[j], ids[j + 1] });
+    }
+  }
+  for (const auto& t : tris)
+    if (piece.Owned.count(cell[t[0]]) || piece.Owned.count(cell[t[1]]) ||
+      piece.Owned.count(cell[t[2]]))
+      for (int j = 0; j < 3; ++j)
+        piece.Complete.insert(cell[t[j]]);
+  const double h = std::ldexp(edge, -k);
+  vtkNew<vtkCellArray> polys;
+  for (const auto& t : tris)
+  {
+    bool keep = piece.Complete.count(cell[t[0]]) || piece.Complete.count(cell[t[1]]) ||
+      piece.Complete.count(cell[t[2]]);
+    double x[3][3];
+    for (int j = 0; j < 3; ++j)
+      mesh->GetPoint(t[j], x[j]);
+    for (auto c = piece.Complete.begin(); !keep && c != piece.Complete.end(); ++c)
+    {
+      const double lo[3] = { origin[0] + (*c)[0] * h, origin[1] + (*c)[1] * h,
+        origin[2] + (*c)[2] * h };
+      keep = MeetsBox(x[0], x[1], x[2], lo, h, 1e-9 * edge);
+    }
+    if (keep)
+      polys->InsertNextCell(3, t.data());
+  }
+  vtkNew<vtkUnsignedCharArray> ghost;
+  ghost->SetName(vtkDataSetAttributes::GhostArrayName());
+  ghost->SetNumberOfTuples(np);
+  for (vtkIdType i = 0; i < np; ++i)
+    ghost->SetValue(i, piece.Owned.count(cell[i]) ? 0 : vtkDataSetAttributes::DUPLICATEPOINT);
+  piece.Mesh = vtkSmartPointer<vtkPolyData>::New();
+  piece.Mesh->SetPoints(mesh->GetPoints());
+  piece.Mesh->SetPolys(polys);
+  piece.Mesh->GetPointData()->AddArray(ghost);
+  return piece;
+}
+
 /// Builds `input` in the given root cube at finest level `level`.
 inline Built BuildInCube(
   vtkPolyData* input, const double origin[3], double edge, int level, vtkCommand* errors = nullptr)
