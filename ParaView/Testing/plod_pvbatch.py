@@ -1,0 +1,436 @@
+"""pvbatch tests of the PerceptualLOD plugin (run by CTest; see ParaView/Testing/CMakeLists.txt).
+
+    pvbatch plod_pvbatch.py one-rank <out dir>
+    pvbatch plod_pvbatch.py octree <out dir>
+    mpiexec -np 2 pvbatch --symmetric plod_pvbatch.py two-ranks <out dir>
+    pvbatch plod_pvbatch.py screenshot <png> [model.ply]
+
+The scene is generated (no data files): ParaView's Wavelet source contoured at one value, a
+closed, curved surface of about 100k triangles. Under MPI each rank's contour is its own piece
+of the wavelet's extent, so the pieces meet along planes with the border points duplicated:
+exactly where independent octrees would crack.
+
+one-rank (pvbatch, builtin session):
+- the representation loads from PV_PLUGIN_PATH and appears as "Perceptual LOD";
+- triangles fall as the camera moves away (4 distances, strictly);
+- a second render of an unchanged view re-executes nothing (no selection, patch or build);
+- Reset Camera fits the whole model (the camera equals ResetCamera on the model's bounds);
+- the image against ParaView's Surface representation of the full contour, same view: PSNR
+  above PSNR_MIN_SURFACE and no hole pixels (background where the surface is, inside its
+  silhouette eroded by 3 pixels);
+- the image is saved for the two-rank test.
+
+two-ranks (mpiexec -np 2 pvbatch --symmetric: the script runs on every rank):
+- every rank holds a piece and triangles of its own, and its selector's eye is the camera
+  ParaView rendered with, at two camera positions;
+- the composited image has no hole pixels against the one-rank image (its silhouette eroded by
+  1 pixel): nothing opens along the piece borders;
+- the composited image equals the one-rank image within PSNR_MIN_RANKS;
+- with Redistribute off (each rank builds its own piece as ParaView delivers it, ghost layer
+  included) the image is further than PSNR_MIN_RANKS from the one-rank image, and turning it on
+  again restores the same image.
+"""
+import os
+import sys
+
+import numpy as np
+
+from paraview import servermanager
+from paraview.simple import (Contour, GetActiveCamera, Render, ResetCamera, Show,
+                             Wavelet, CreateView, SaveScreenshot)
+from paraview.vtk.util.numpy_support import vtk_to_numpy
+
+SIZE = (480, 480)
+PSNR_MIN_SURFACE = 30.0  # dB, LOD (default tolerances) against the full mesh, same view
+PSNR_MIN_RANKS = 60.0    # dB, two ranks against one rank, same view (measured: 84 dB)
+
+
+def controller():
+    from vtkmodules.vtkParallelCore import vtkMultiProcessController
+    return vtkMultiProcessController.GetGlobalController()
+
+
+def rank_and_size():
+    c = controller()
+    return (c.GetLocalProcessId(), c.GetNumberOfProcesses()) if c else (0, 1)
+
+
+def say(*args):
+    rank, size = rank_and_size()
+    print("[rank %d/%d]" % (rank, size), *args, flush=True)
+
+
+def fail(message):
+    say("FAIL:", message)
+    sys.stdout.flush()
+    os._exit(1)
+
+
+def check(condition, message):
+    if not condition:
+        fail(message)
+    say("ok:", message)
+
+
+def scene(kind="wavelet"):
+    """A new render view showing `kind` with the Perceptual LOD representation:
+    "wavelet", the Wavelet contoured at 157 (open, about 100k triangles; under MPI each rank
+    contours its own piece of the extent, with a ghost layer), or "sphere", a closed sphere of
+    318k triangles whose pieces meet along meridians whose points agree only to rounding."""
+    view = CreateView("RenderView")
+    view.ViewSize = list(SIZE)
+    view.OrientationAxesVisibility = 0
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    view.Background = [0.0, 0.0, 0.0]
+    if kind == "sphere":
+        from paraview.simple import Sphere
+        source = Sphere(ThetaResolution=400, PhiResolution=400)
+    else:
+        wavelet = Wavelet(WholeExtent=[-40, 40, -40, 40, -40, 40])
+        source = Contour(Input=wavelet, ContourBy=["POINTS", "RTData"], Isosurfaces=[157.0])
+        source.ComputeScalars = 0
+    display = Show(source, view)
+    display.ColorArrayName = ["POINTS", ""]
+    display.SetRepresentationType("Perceptual LOD")
+    return view, source, display
+
+
+class LOD:
+    """This rank's vtkPerceptualLODRepresentation, read through the display's information
+    properties (the plugin's classes have no Python wrapping in ParaView's Python)."""
+
+    def __init__(self, display):
+        self.proxy = display.SMProxy
+        if self.proxy.GetProperty("NumberOfTriangles") is None:
+            fail("the display has no Perceptual LOD properties: is the plugin loaded "
+                 "(PV_PLUGIN_PATH)?")
+
+    def get(self, name):
+        self.proxy.UpdatePropertyInformation()
+        p = self.proxy.GetProperty(name)
+        values = [p.GetElement(i) for i in range(p.GetNumberOfElements())]
+        return values[0] if len(values) == 1 else values
+
+    def __getattr__(self, method):
+        # lod.GetNumberOfBuilds() reads the property NumberOfBuilds
+        if method.startswith("Get"):
+            return lambda: self.get(method[3:])
+        raise AttributeError(method)
+
+
+def lod_object(display):
+    return LOD(display)
+
+
+def capture(view):
+    image = view.CaptureWindow(1)
+    width, height, _ = image.GetDimensions()
+    rgb = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(height, width, -1)[:, :, :3]
+    return np.asarray(rgb[::-1], dtype=np.float64)
+
+
+def luminance(rgb):
+    return 0.2126 * rgb[:, :, 0] + 0.7152 * rgb[:, :, 1] + 0.0722 * rgb[:, :, 2]
+
+
+def psnr(a, b):
+    mse = float(np.mean((luminance(a) - luminance(b)) ** 2))
+    return float("inf") if mse == 0 else 10.0 * np.log10(255.0 ** 2 / mse)
+
+
+def covered(rgb):
+    return rgb.max(axis=2) > 0
+
+
+def erode(mask, r):
+    out = mask.copy()
+    for _ in range(r):
+        m = out.copy()
+        m[1:] &= out[:-1]
+        m[:-1] &= out[1:]
+        m[:, 1:] &= out[:, :-1]
+        m[:, :-1] &= out[:, 1:]
+        m[1:, 1:] &= out[:-1, :-1]
+        m[:-1, :-1] &= out[1:, 1:]
+        m[1:, :-1] &= out[:-1, 1:]
+        m[:-1, 1:] &= out[1:, :-1]
+        out = m
+    return out
+
+
+def holes(image, reference, r):
+    """Background pixels of `image` inside the reference's object mask eroded by r pixels."""
+    return int((erode(covered(reference), r) & ~covered(image)).sum())
+
+
+def camera_distance(camera):
+    p = np.array(camera.GetPosition())
+    f = np.array(camera.GetFocalPoint())
+    return float(np.linalg.norm(p - f))
+
+
+def dolly_to(view, distance):
+    camera = GetActiveCamera()
+    f = np.array(camera.GetFocalPoint())
+    p = np.array(camera.GetPosition())
+    d = (p - f) / np.linalg.norm(p - f)
+    camera.SetPosition(*(f + distance * d))
+    view.CenterOfRotation = list(f)
+    Render(view)
+
+
+def one_rank(out):
+    view, contour, display = scene()
+    lod = lod_object(display)
+    ResetCamera(view)
+    Render(view)
+    check(lod.GetNumberOfBuilds() == 1, "the octree is built once (%d)" % lod.GetNumberOfBuilds())
+    triangles = lod.GetNumberOfTriangles()
+    check(triangles > 1000, "the first render draws triangles (%d)" % triangles)
+    say("octree: finest level %d, %d nodes, %d triangles" % (
+        lod.GetOctreeFinestLevel(), lod.GetNumberOfOctreeNodes(), lod.GetNumberOfOctreeTriangles()))
+
+    # Reset Camera fits the whole model: the same camera as a VTK ResetCamera on its bounds
+    info = contour.GetDataInformation()
+    bounds = info.GetBounds()
+    camera = GetActiveCamera()
+    focal = np.array(camera.GetFocalPoint())
+    centre = np.array([(bounds[0] + bounds[1]) / 2, (bounds[2] + bounds[3]) / 2,
+                       (bounds[4] + bounds[5]) / 2])
+    check(np.allclose(focal, centre, atol=1e-6 * (bounds[1] - bounds[0])),
+          "Reset Camera centres the model's bounds (%s vs %s)" % (focal, centre))
+    matrix = camera.GetCompositeProjectionTransformMatrix(SIZE[0] / SIZE[1], -1, 1)
+    inside = []
+    for i in range(8):
+        corner = [bounds[i & 1], bounds[2 + ((i >> 1) & 1)], bounds[4 + ((i >> 2) & 1)], 1.0]
+        x = [sum(matrix.GetElement(r, c) * corner[c] for c in range(4)) for r in range(4)]
+        inside.append(abs(x[0] / x[3]) <= 1 and abs(x[1] / x[3]) <= 1)
+    check(all(inside), "Reset Camera shows every corner of the model's bounds")
+    image = capture(view)
+    np.save(os.path.join(out, "onerank.npy"), image)
+    reference_camera = (camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp())
+
+    # a still render re-executes nothing
+    counts = (lod.GetNumberOfSelections(), lod.GetNumberOfPatchUpdates(), lod.GetNumberOfBuilds())
+    Render(view)
+    Render(view)
+    again = (lod.GetNumberOfSelections(), lod.GetNumberOfPatchUpdates(), lod.GetNumberOfBuilds())
+    check(again == counts, "two still renders re-execute nothing (selections, patches, builds: "
+          "%s then %s)" % (counts, again))
+
+    # triangles fall as the camera moves away
+    start = camera_distance(camera)
+    series = []
+    for factor in (1.0, 2.0, 4.0, 8.0):
+        dolly_to(view, start * factor)
+        series.append(lod.GetNumberOfTriangles())
+    check(all(a > b for a, b in zip(series, series[1:])),
+          "triangles fall as the camera moves away: %s" % series)
+    check(lod.GetNumberOfBuilds() == 1, "moving the camera builds nothing again")
+
+    # against ParaView's Surface representation of the full contour, same view
+    camera.SetPosition(*reference_camera[0])
+    camera.SetFocalPoint(*reference_camera[1])
+    camera.SetViewUp(*reference_camera[2])
+    Render(view)
+    lod_image = capture(view)
+    lod_triangles = lod.GetNumberOfTriangles()
+    display.SetRepresentationType("Surface")
+    Render(view)
+    surface = capture(view)
+    full = info.GetNumberOfCells()
+    value = psnr(lod_image, surface)
+    hole_pixels = holes(lod_image, surface, 3)
+    say("LOD %d triangles of %d: PSNR %.2f dB against the Surface representation, %d hole pixels"
+        % (lod_triangles, full, value, hole_pixels))
+    check(lod_triangles < full, "the LOD draws fewer triangles than the full contour")
+    check(value > PSNR_MIN_SURFACE, "PSNR %.2f dB > %.0f dB against Surface" % (value,
+                                                                             PSNR_MIN_SURFACE))
+    check(hole_pixels == 0, "no hole pixels against Surface (%d)" % hole_pixels)
+    np.save(os.path.join(out, "surface.npy"), surface)
+
+    # the closed sphere, for the two-rank test
+    view, sphere, display = scene("sphere")
+    ResetCamera(view)
+    Render(view)
+    check(LOD(display).GetNumberOfTriangles() > 0, "the sphere is drawn")
+    np.save(os.path.join(out, "onerank-sphere.npy"), capture(view))
+    print("one rank: ok", flush=True)
+
+
+def octree_filters(out):
+    from paraview.simple import Hide, MultiscaleOctreeBuilder, OpenDataFile, SaveData
+    view, contour, display = scene()
+    ResetCamera(view)
+    Render(view)
+    direct = LOD(display).GetNumberOfTriangles()
+    Hide(contour, view)
+    octree = MultiscaleOctreeBuilder(Input=contour)
+    built = Show(octree, view)
+    check(built.GetXMLName() == "PerceptualLODRepresentation",
+          "an octree is shown with Perceptual LOD by default (%s)" % built.GetXMLName())
+    Render(view)
+    from_builder = LOD(built).GetNumberOfTriangles()
+    check(from_builder == direct, "the Builder's octree draws what the representation draws "
+          "from the surface (%d, %d)" % (from_builder, direct))
+    path = os.path.join(out, "contour.plod")
+    if os.path.exists(path):
+        os.remove(path)
+    SaveData(path, proxy=octree)
+    check(os.path.getsize(path) > 0, "the Writer writes %s" % path)
+    Hide(octree, view)
+    read = OpenDataFile(path)
+    check(read.GetXMLName() == "MultiscaleOctreeReader", "the Reader opens .plod files")
+    from_file = Show(read, view)
+    Render(view)
+    count = LOD(from_file).GetNumberOfTriangles()
+    check(count == direct, "the octree read back draws the same triangles (%d, %d)"
+          % (count, direct))
+    print("octree filters: ok", flush=True)
+
+
+def two_ranks(out):
+    rank, size = rank_and_size()
+    if size < 2:
+        fail("run with mpiexec -np 2 pvbatch --symmetric")
+    view, contour, display = scene()
+    lod = lod_object(display)
+    ResetCamera(view)
+    Render(view)
+    say("octree: finest level %d, %d nodes, %d triangles" % (
+        lod.GetOctreeFinestLevel(), lod.GetNumberOfOctreeNodes(), lod.GetNumberOfOctreeTriangles()))
+    camera = GetActiveCamera()
+    for step in range(2):
+        eye = lod.GetSelectorEye()
+        position = camera.GetPosition()
+        check(np.allclose(eye, position, rtol=1e-9, atol=1e-9 * camera_distance(camera)),
+              "the selector's eye is the rendered camera (%s vs %s)" % (eye, position))
+        check(lod.GetNumberOfTriangles() > 0, "this rank draws triangles of its own (%d)"
+              % lod.GetNumberOfTriangles())
+        if step == 0:
+            image = capture(view)
+            camera.Azimuth(30)
+            Render(view)
+    check(lod.GetRank() == rank, "the properties read are this rank's (%d)" % lod.GetRank())
+    check(lod.GetNumberOfOwnedCells() > 0, "this rank owns octree cells (%d)"
+          % lod.GetNumberOfOwnedCells())
+    # the same view with every rank building its own piece as it is: what the redistribution
+    # prevents (reported, and checked to differ, so that the checks below can tell)
+    camera.Azimuth(-30)
+    display.Redistribute = 0
+    Render(view)
+    unshared = capture(view)
+    display.Redistribute = 1
+    Render(view)
+    again = capture(view)
+    # the closed sphere: its pieces' border points agree only to rounding (merged), and the
+    # automatic back-face rule must see the whole closed mesh, not each rank's open piece
+    view_s, sphere, display_s = scene("sphere")
+    ResetCamera(view_s)
+    Render(view_s)
+    lod_s = LOD(display_s)
+    check(lod_s.GetGlobalBoundaryEdges() == 0, "the sphere shared out is closed (boundary edges "
+          "of the whole mesh: %d)" % lod_s.GetGlobalBoundaryEdges())
+    sphere_image = capture(view_s)
+    if rank != 0:
+        print("two ranks: ok", flush=True)
+        return
+    reference_s = np.load(os.path.join(out, "onerank-sphere.npy"))
+    value_s = psnr(sphere_image, reference_s)
+    holes_s = holes(sphere_image, reference_s, 1)
+    say("sphere, two ranks against one: PSNR %.2f dB, %d hole pixels" % (value_s, holes_s))
+    check(holes_s == 0 and value_s > PSNR_MIN_RANKS, "the sphere on two ranks is the one-rank "
+          "sphere (%.2f dB > %.0f dB, %d hole pixels)" % (value_s, PSNR_MIN_RANKS, holes_s))
+    reference = np.load(os.path.join(out, "onerank.npy"))
+    value_off = psnr(unshared, reference)
+    say("pieces built as they are (Redistribute off): PSNR %.2f dB against one rank, %d hole "
+        "pixels" % (value_off, holes(unshared, reference, 1)))
+    check(value_off < PSNR_MIN_RANKS, "without the redistribution the image is not the one-rank "
+          "image (%.2f dB): the PSNR check tells them apart" % value_off)
+    check(np.array_equal(again, image), "Redistribute on again gives the same image")
+    np.save(os.path.join(out, "tworanks.npy"), image)
+    hole_pixels = holes(image, reference, 1)
+    value = psnr(image, reference)
+    say("two ranks against one: PSNR %.2f dB, %d hole pixels" % (value, hole_pixels))
+    check(hole_pixels == 0, "no hole pixels along the piece borders (%d)" % hole_pixels)
+    check(value > PSNR_MIN_RANKS, "PSNR %.2f dB > %.0f dB against one rank" % (value,
+                                                                            PSNR_MIN_RANKS))
+    print("two ranks: ok", flush=True)
+
+
+def client(out, port):
+    """A client (ParaView's Python) connected to `mpiexec -np 2 pvserver` on localhost:`port`:
+    the server ranks render (the representation asks for distributed rendering), the client
+    gets the composited image and never the mesh."""
+    from paraview.simple import Connect, LoadDistributedPlugin
+    connection = Connect("localhost", int(port))
+    check(connection is not None, "connected to pvserver on port %s" % port)
+    # the plugin is loaded on the server ranks through their PV_PLUGIN_PATH; the client needs
+    # the proxy definitions too, from its own PV_PLUGIN_PATH
+    ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
+    check(ranks == 2, "the server has 2 ranks (%d)" % ranks)
+    view, contour, display = scene()
+    lod = LOD(display)
+    ResetCamera(view)
+    Render(view)
+    image = capture(view)
+    # information properties read the client's own object: it must have drawn nothing (the
+    # mesh never came to the client; the server ranks rendered the image)
+    check(lod.GetNumberOfTriangles() == 0,
+          "the client draws no triangle itself (%d)" % lod.GetNumberOfTriangles())
+    check(covered(image).sum() > 1000, "the client receives the servers' image (%d pixels)"
+          % covered(image).sum())
+    reference = np.load(os.path.join(out, "onerank.npy"))
+    hole_pixels = holes(image, reference, 1)
+    value = psnr(image, reference)
+    say("client-server (2 server ranks) against one rank: PSNR %.2f dB, %d hole pixels"
+        % (value, hole_pixels))
+    check(hole_pixels == 0, "no hole pixels in the image the client receives (%d)" % hole_pixels)
+    check(value > PSNR_MIN_RANKS, "PSNR %.2f dB > %.0f dB against one rank" % (value,
+                                                                            PSNR_MIN_RANKS))
+    print("client-server: ok", flush=True)
+
+
+def screenshot(path, model=None):
+    """The README's picture: `model` (a PLY file; default the generated scene) drawn with the
+    Perceptual LOD representation, with its triangle count."""
+    if model:
+        from paraview.simple import PLYReader, Text
+        view = CreateView("RenderView")
+        view.ViewSize = [640, 480]
+        view.OrientationAxesVisibility = 0
+        try:
+            view.UseColorPaletteForBackground = 0
+        except AttributeError:
+            pass
+        view.Background = [0.1, 0.1, 0.12]
+        source = PLYReader(FileNames=[model])
+        display = Show(source, view)
+        display.ColorArrayName = ["POINTS", ""]
+        display.SetRepresentationType("Perceptual LOD")
+    else:
+        view, source, display = scene()
+    display.DiffuseColor = [0.85, 0.75, 0.55]
+    ResetCamera(view)
+    Render(view)
+    lod = LOD(display)
+    full = source.GetDataInformation().GetNumberOfCells()
+    if model:
+        label = Text(Text="Perceptual LOD in ParaView 5.11 (pvbatch): %d of %d triangles"
+                     % (lod.GetNumberOfTriangles(), full))
+        label_display = Show(label, view)
+        label_display.FontSize = 14
+        Render(view)
+    SaveScreenshot(path, view, ImageResolution=list(view.ViewSize))
+    print("screenshot written: %s (%d of %d triangles)" % (path, lod.GetNumberOfTriangles(), full),
+          flush=True)
+
+
+if __name__ == "__main__":
+    mode, target = sys.argv[1], sys.argv[2]
+    {"one-rank": one_rank, "two-ranks": two_ranks, "octree": octree_filters, "client": client,
+     "screenshot": screenshot}[mode](
+        target, *sys.argv[3:])
