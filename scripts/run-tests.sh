@@ -16,6 +16,12 @@ cmake -S . -B build-core -G Ninja -DPLOD_CORE_ONLY=ON -DPLOD_WARNINGS_AS_ERRORS=
 cmake --build build-core
 ctest --test-dir build-core --output-on-failure -j2
 
+# The ParaView plugin (ParaView/README.md): built against ParaView 5.11 in build-paraview (its
+# prefix staged there, python3-paraview extracted, nothing installed system-wide) and its pvbatch
+# tests run, on one rank and on two MPI ranks.
+bash ParaView/scripts/build-plugin.sh -DPLOD_WARNINGS_AS_ERRORS=ON
+ctest --test-dir build-paraview --output-on-failure
+
 # Sanitizer stage (CI runs it; PLOD_SKIP_SANITIZE=1 skips it for a quicker local run). The tree
 # build-asan is RelWithDebInfo without NDEBUG (so the kernels' debug asserts are checked too)
 # with PLOD_SANITIZE=ON: every target of this project (kernels,
