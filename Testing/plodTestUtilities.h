@@ -9,6 +9,7 @@
 #define plodTestUtilities_h
 
 #include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkCommand.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
@@ -116,6 +117,29 @@ inline vtkSmartPointer<vtkPolyData> MakeMesh(
   pd->SetPoints(pts);
   pd->SetPolys(polys);
   return pd;
+}
+
+/// The same triangles with three points of their own each (an unwelded mesh: every point
+/// repeated as often as triangles share it).
+inline vtkSmartPointer<vtkPolyData> Unweld(vtkPolyData* mesh)
+{
+  std::vector<double> xyz;
+  std::vector<vtkIdType> tri;
+  auto it = vtk::TakeSmartPointer(mesh->GetPolys()->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    for (int k = 0; k < 3; ++k)
+    {
+      double x[3];
+      mesh->GetPoint(ids[k], x);
+      tri.push_back(static_cast<vtkIdType>(xyz.size() / 3));
+      xyz.insert(xyz.end(), x, x + 3);
+    }
+  }
+  return MakeMesh(xyz, tri);
 }
 
 /// Axis-aligned box [lo, hi]^3 as 12 outward-oriented triangles.

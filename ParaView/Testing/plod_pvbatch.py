@@ -72,19 +72,25 @@ def check(condition, message):
     say("ok:", message)
 
 
-def scene(kind="wavelet"):
-    """A new render view showing `kind` with the Perceptual LOD representation:
-    "wavelet", the Wavelet contoured at 157 (open, about 100k triangles; under MPI each rank
-    contours its own piece of the extent, with a ghost layer), or "sphere", a closed sphere of
-    318k triangles whose pieces meet along meridians whose points agree only to rounding."""
+def render_view(size, background):
+    """A new render view of `size` pixels, no axes, a plain `background`."""
     view = CreateView("RenderView")
-    view.ViewSize = list(SIZE)
+    view.ViewSize = list(size)
     view.OrientationAxesVisibility = 0
     try:
         view.UseColorPaletteForBackground = 0
     except AttributeError:
         pass
-    view.Background = [0.0, 0.0, 0.0]
+    view.Background = background
+    return view
+
+
+def scene(kind="wavelet"):
+    """A new render view showing `kind` with the Perceptual LOD representation:
+    "wavelet", the Wavelet contoured at 157 (open, about 100k triangles; under MPI each rank
+    contours its own piece of the extent, with a ghost layer), or "sphere", a closed sphere of
+    318k triangles whose pieces meet along meridians whose points agree only to rounding."""
+    view = render_view(SIZE, [0.0, 0.0, 0.0])
     if kind == "sphere":
         from paraview.simple import Sphere
         source = Sphere(ThetaResolution=400, PhiResolution=400)
@@ -399,14 +405,7 @@ def screenshot(path, model=None):
     Perceptual LOD representation, with its triangle count."""
     if model:
         from paraview.simple import PLYReader, Text
-        view = CreateView("RenderView")
-        view.ViewSize = [640, 480]
-        view.OrientationAxesVisibility = 0
-        try:
-            view.UseColorPaletteForBackground = 0
-        except AttributeError:
-            pass
-        view.Background = [0.1, 0.1, 0.12]
+        view = render_view((640, 480), [0.1, 0.1, 0.12])
         source = PLYReader(FileNames=[model])
         display = Show(source, view)
         display.ColorArrayName = ["POINTS", ""]

@@ -683,26 +683,7 @@ TEST(MultiscaleOctreeBuilder, DefaultLevelFollowsTheInputDetail)
   }
   // duplicated points (an unwelded mesh) do not drive the level to 21
   vtkNew<vtkPolyData> soup;
-  {
-    auto blob = plodtest::MakeBlob(11, 30, 0.2);
-    std::vector<double> xyz;
-    std::vector<vtkIdType> tri;
-    auto it = vtk::TakeSmartPointer(blob->GetPolys()->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-    {
-      vtkIdType n;
-      const vtkIdType* ids;
-      it->GetCurrentCell(n, ids);
-      for (int k = 0; k < 3; ++k)
-      {
-        double x[3];
-        blob->GetPoint(ids[k], x);
-        tri.push_back(static_cast<vtkIdType>(xyz.size() / 3));
-        xyz.insert(xyz.end(), x, x + 3);
-      }
-    }
-    soup->DeepCopy(plodtest::MakeMesh(xyz, tri));
-  }
+  soup->DeepCopy(plodtest::Unweld(plodtest::MakeBlob(11, 30, 0.2)));
   Built s = Build(soup);
   EXPECT_LE(s.View.FinestLevel, 8);
 }
@@ -1537,26 +1518,7 @@ TEST(MultiscaleOctreeBuilder, ChooseFinestLevelFromCountsIsTheBuildsAutomaticLev
   std::vector<std::pair<vtkSmartPointer<vtkPointSet>, bool>> inputs;
   for (int res : { 6, 16, 40, 90 })
     inputs.push_back({ plodtest::MakeBlob(26, res, 0.3), false });
-  {
-    auto blob = plodtest::MakeBlob(27, 20, 0.2);
-    std::vector<double> xyz;
-    std::vector<vtkIdType> tri;
-    auto it = vtk::TakeSmartPointer(blob->GetPolys()->NewIterator());
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
-    {
-      vtkIdType n;
-      const vtkIdType* ids;
-      it->GetCurrentCell(n, ids);
-      for (int k = 0; k < 3; ++k)
-      {
-        double x[3];
-        blob->GetPoint(ids[k], x);
-        tri.push_back(static_cast<vtkIdType>(xyz.size() / 3));
-        xyz.insert(xyz.end(), x, x + 3);
-      }
-    }
-    inputs.push_back({ plodtest::MakeMesh(xyz, tri), false });
-  }
+  inputs.push_back({ plodtest::Unweld(plodtest::MakeBlob(27, 20, 0.2)), false });
   for (int res : { 40, 150 })
   {
     auto sphere = plodtest::MakeBlob(1, res, 0.1);

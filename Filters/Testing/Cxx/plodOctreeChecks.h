@@ -45,13 +45,22 @@ struct Built
   plod::OctreeView View;
 };
 
+/// Builds `input` (level -1: chosen by the builder); in the given root cube when `cubeOrigin`
+/// is not null.
 inline Built Build(vtkPolyData* input, int level = -1,
-  int rule = vtkMultiscaleOctreeBuilder::VERTEX_QEF, vtkCommand* errors = nullptr)
+  int rule = vtkMultiscaleOctreeBuilder::VERTEX_QEF, vtkCommand* errors = nullptr,
+  const double* cubeOrigin = nullptr, double cubeEdge = 0)
 {
   vtkNew<vtkMultiscaleOctreeBuilder> builder;
   builder->SetInputData(input);
   builder->SetFinestLevel(level);
   builder->SetVertexRule(rule);
+  if (cubeOrigin)
+  {
+    builder->UseGivenRootCubeOn();
+    builder->SetRootCubeOrigin(cubeOrigin[0], cubeOrigin[1], cubeOrigin[2]);
+    builder->SetRootCubeEdge(cubeEdge);
+  }
   if (errors)
   {
     builder->AddObserver(vtkCommand::ErrorEvent, errors);
@@ -599,22 +608,7 @@ Piece MakePiece(vtkPolyData* mesh, const double origin[3], double edge, int k, O
 inline Built BuildInCube(
   vtkPolyData* input, const double origin[3], double edge, int level, vtkCommand* errors = nullptr)
 {
-  vtkNew<vtkMultiscaleOctreeBuilder> builder;
-  builder->SetInputData(input);
-  builder->SetFinestLevel(level);
-  builder->UseGivenRootCubeOn();
-  builder->SetRootCubeOrigin(origin[0], origin[1], origin[2]);
-  builder->SetRootCubeEdge(edge);
-  if (errors)
-  {
-    builder->AddObserver(vtkCommand::ErrorEvent, errors);
-    builder->AddObserver(vtkCommand::WarningEvent, errors);
-  }
-  builder->Update();
-  Built b;
-  b.Octree = builder->GetOutput();
-  b.Octree->GetView(b.View);
-  return b;
+  return Build(input, level, vtkMultiscaleOctreeBuilder::VERTEX_QEF, errors, origin, edge);
 }
 
 } // namespace plodcheck
