@@ -70,6 +70,10 @@
  * refined without any test but the frustum's (step 1), in every mode: its content is
  * incomplete in each process's piece, so its errors, cone and vertex say nothing about the
  * whole surface. A leaf coarser than it is opened.
+ *
+ * One decision per cell: the tests above are one function (Judge in the .cxx), which answers
+ * hide, draw (with the reason) or refine (with what the children are tested for). The walk
+ * only applies its answers, so that another walk can share the tests without copying them.
  */
 #ifndef plodSelector_h
 #define plodSelector_h
@@ -255,6 +259,10 @@ private:
     uint32_t C[3];
     bool BrightnessOnly;
   };
+  void ClearPrevious(uint8_t* state, uint8_t* reason, uint8_t* cullMask);
+  void SelectDepthFirst(const SelectionInput& in, uint8_t* state, uint8_t* reason,
+    uint8_t* cullMask, SelectionStats& stats);
+
   OctreeView View;
   std::vector<Entry> Stack;
   std::vector<float> SinTheta, CosTheta;
