@@ -105,6 +105,7 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , BrightnessTolerance(4.0)
   , TopologyTolerance(1.0)
   , MinimumLevel(0)
+  , TriangleBudget(0)
   , ViewAngle(30.0)
   , UseFrustum(false)
   , ParallelProjection(false)
@@ -130,6 +131,8 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , NumberOfDrawnNodes(0)
   , NumberOfOpenedLeaves(0)
   , NumberOfTopologyRefinedNodes(0)
+  , BudgetWasBinding(false)
+  , NumberOfBudgetTriangles(0)
   , SelectTime(0.0)
   , Internal(new Internals)
 {
@@ -243,6 +246,8 @@ int vtkPerceptualLODSelector::RequestData(
     this->Internal->LastOutput->Initialize();
     this->NumberOfVisitedNodes = this->NumberOfCutNodes = this->NumberOfDrawnNodes = 0;
     this->NumberOfOpenedLeaves = 0;
+    this->BudgetWasBinding = false;
+    this->NumberOfBudgetTriangles = 0;
     this->EmptyCutReason = "the octree is empty";
     return 1;
   }
@@ -303,6 +308,7 @@ int vtkPerceptualLODSelector::RequestData(
   in.BrightnessTolerance = this->BrightnessTolerance;
   in.TopologyTolerance = this->TopologyTolerance;
   in.MinimumLevel = this->MinimumLevel;
+  in.TriangleBudget = this->TriangleBudget;
   in.UseOctreeMaterial = input->GetHasMaterialArrays();
   in.Diffuse = this->DiffuseReflectance;
   in.Specular = this->SpecularReflectance;
@@ -519,6 +525,11 @@ int vtkPerceptualLODSelector::RequestData(
       ? "the model is outside the view frustum"
       : "no cell is drawn: every cell in the view faces away from the eye (back faces hidden)";
   }
+  else if (rootState != plod::NotInCut && I.Reason->GetValue(0) == plod::BudgetLimited)
+  {
+    this->EmptyCutReason = "the triangle budget is smaller than the triangles refining the root "
+                           "would add: the root alone is drawn, which is one point and no triangle";
+  }
   else if (rootState != plod::NotInCut && rootState != plod::CutOpen)
   {
     this->EmptyCutReason = in.VelocityFactor == std::numeric_limits<double>::infinity()
@@ -539,6 +550,8 @@ int vtkPerceptualLODSelector::RequestData(
   this->NumberOfDrawnNodes = stats.Drawn;
   this->NumberOfOpenedLeaves = stats.Opened;
   this->NumberOfTopologyRefinedNodes = stats.TopologyRefined;
+  this->BudgetWasBinding = stats.BudgetBinding;
+  this->NumberOfBudgetTriangles = stats.BudgetTriangles;
   return 1;
 }
 
@@ -564,6 +577,8 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TopologyTolerance: " << this->TopologyTolerance << " px\n";
   os << indent << "BrightnessTolerance: " << this->BrightnessTolerance << "\n";
   os << indent << "MinimumLevel: " << this->MinimumLevel << "\n";
+  os << indent << "TriangleBudget: " << this->TriangleBudget
+     << (this->TriangleBudget > 0 ? "" : " (off)") << "\n";
   os << indent << "EyePosition: (" << this->EyePosition[0] << ", " << this->EyePosition[1] << ", "
      << this->EyePosition[2] << ")\n";
   os << indent << "ViewAngle: " << this->ViewAngle << " deg\n";
@@ -589,5 +604,6 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Last: " << this->NumberOfVisitedNodes << " visited, " << this->NumberOfCutNodes
      << " in the cut, " << this->NumberOfDrawnNodes << " drawn, " << this->SelectTime * 1e3
      << " ms, object speed " << this->ObjectSpeed << " px, distance level " << this->DistanceLevel
-     << "\n";
+     << ", " << this->NumberOfBudgetTriangles << " triangles"
+     << (this->BudgetWasBinding ? " (the budget was binding)" : "") << "\n";
 }

@@ -8,8 +8,9 @@
  * copy) with three node arrays for vtkMultiscalePatchGenerator: "CutState" (0 not in the cut,
  * 1 drawn at the cell's representative vertex, 2 hidden, 3 a leaf opened: drawn at full
  * resolution), "CutReason" (plod::CutReason: 1 accepted on the contour, 2 accepted by
- * brightness, 3 leaf opened, 4 culled, 5 back-facing, 6 accepted by a baseline's error test)
- * and "CullMask" (the frustum planes a culled cell lies outside).
+ * brightness, 3 leaf opened, 4 culled, 5 back-facing, 6 accepted by a baseline's error test,
+ * 7 accepted by its projected size, 8 left unrefined by the triangle budget) and "CullMask"
+ * (the frustum planes a culled cell lies outside).
  *
  * Method (METHOD §2; SRCC §3.3-3.5 by Wakatsuki et al. 2003; TMM §3-4; Wang & Sato eq. 1-2;
  * Cheng §2), walking from the root:
@@ -69,6 +70,10 @@
  *   L (M_max c_max - M_min c_min) to the brightness change (TMM eq. 8-9), else the constant
  *   DiffuseReflectance and SpecularReflectance.
  * Frustum culling applies in every mode, and so does MinimumLevel (distributed rendering).
+ *
+ * Triangle budget (TriangleBudget, off by default): the best cut of at most that many triangles
+ * under the same criteria, refined from the root in order of perceptual error over tolerance
+ * (Luebke & Erikson 1997's budget-based simplification, with the tolerances as a floor).
  *
  * Monotonicity: lowering a tolerance never makes a drawn cell coarser, and faster micro motion
  * never makes one finer. Moving the eye away never makes a drawn cell finer once the eye is a
@@ -259,6 +264,33 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Triangle budget: at most this many triangles (default 0: no budget). The cut is then the
+   * best one the budget allows under the same criteria: starting from the root, the cells the
+   * tolerances would refine are refined in order of priority, how far their error exceeds
+   * their tolerance (SRCC: the larger of contour error / ContourTolerance and brightness error /
+   * BrightnessTolerance, with the motion and foveation factors; the other models: the ratio of
+   * their own test), until the first refinement whose triangles do not fit. The tolerances stay
+   * a floor: a cell they accept is never refined, so a budget larger than the tolerance cut's
+   * triangles gives the tolerance cut exactly. Cells left unrefined by the budget are drawn at
+   * their vertex with CutReason 8 (plod::BudgetLimited). The count is of the triangles the cut's
+   * refined cells own (GetNumberOfBudgetTriangles); vtkMultiscalePatchGenerator draws at most
+   * that many (fewer where cells are hidden or back faces culled). Floors kept whatever the
+   * budget: MinimumLevel and the cells holding the eye are always refined, so a budget smaller
+   * than what they need is exceeded (GetBudgetWasBinding() is then true). Negative values are
+   * clamped to 0. See plodSelector.h for the rules.
+   */
+  vtkSetClampMacro(TriangleBudget, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(TriangleBudget, vtkIdType);
+  /// Whether the budget stopped refinement in the last execution before the tolerances were
+  /// met (or the floors alone exceeded it). False without a budget.
+  vtkGetMacro(BudgetWasBinding, bool);
+  /// Triangles owned by the refined cells of the last cut (with or without a budget): what it
+  /// draws at most, and with a budget at most TriangleBudget (unless the floors need more).
+  vtkGetMacro(NumberOfBudgetTriangles, vtkIdType);
+  ///@}
+
+  ///@{
   /// The view. Eye position default (0, 0, 1); view angle in degrees (default 30); viewport
   /// size in pixels (default 1920 x 1080).
   vtkSetVector3Macro(EyePosition, double);
@@ -416,6 +448,7 @@ protected:
   double BrightnessTolerance;
   double TopologyTolerance;
   int MinimumLevel;
+  vtkIdType TriangleBudget;
   double EyePosition[3];
   double ViewAngle;
   int ViewportSize[2];
@@ -449,6 +482,8 @@ protected:
   vtkIdType NumberOfDrawnNodes;
   vtkIdType NumberOfOpenedLeaves;
   vtkIdType NumberOfTopologyRefinedNodes;
+  bool BudgetWasBinding;
+  vtkIdType NumberOfBudgetTriangles;
   std::string EmptyCutReason;
   double SelectTime;
 

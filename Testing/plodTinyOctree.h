@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 /**
  * @file plodTinyOctree.h
- * @brief A hand-made two-node octree for exact selector tests (VTK-free): a unit root cell at the
- * origin (level 0) with one finest child (child 0, the cell [0, 0.5]^3, level 1). Every quantity
- * the selector reads is a member the test sets.
+ * @brief Hand-made octrees for exact selector tests (VTK-free). Tiny: a unit root cell at the
+ * origin (level 0) with one finest child (child 0, the cell [0, 0.5]^3, level 1). Fork: a root
+ * with two finest children and triangle counts, for the triangle budget. Every quantity the
+ * selector reads is a member the test sets.
  */
 #ifndef plodTinyOctree_h
 #define plodTinyOctree_h
@@ -69,6 +70,75 @@ struct Tiny
     if (childReason)
       *childReason = reason[1];
     return reason[0];
+  }
+};
+
+/**
+ * A hand-made three-node octree for the budget walk: a unit root cell at the origin (level 0,
+ * vertex (0.5, 0.5, 0.5)) with two finest children, A = child 0 (the cell [0, 0.5]^3, vertex
+ * (0.25, 0.25, 0.25)) and B = child 1 (the cell [0.5, 1] x [0, 0.5]^2, vertex (0.75, 0.25,
+ * 0.25)). Node 0 owns Owned[0] triangles, A Owned[1], B Owned[2] (the selector reads only the
+ * counts, never the triangles). Every axis +z; every quantity the selector reads is a member.
+ */
+struct Fork
+{
+  uint8_t Level[3] = { 0, 1, 1 };
+  int32_t Parent[3] = { -1, 0, 0 };
+  int32_t FirstChild[3] = { 1, -1, -1 };
+  uint8_t Mask[3] = { 3, 0, 0 };
+  float Vertex[9] = { 0.5f, 0.5f, 0.5f, 0.25f, 0.25f, 0.25f, 0.75f, 0.25f, 0.25f };
+  float Axis[9] = { 0, 0, 1, 0, 0, 1, 0, 0, 1 };
+  float Angle[3] = { 0.2f, 0.2f, 0.2f };
+  float Shape[3] = { 0, 0, 0 };
+  float Diffuse[6] = { 1, 1, 1, 1, 1, 1 };  // (min, max) per node
+  float Specular[6] = { 0, 0, 0, 0, 0, 0 }; // (min, max) per node
+  uint8_t Flags[3] = { plod::NodeTopologySafe, plod::NodeTopologySafe, plod::NodeTopologySafe };
+  float Thickness[3] = { 0, 0, 0 };
+  int32_t FirstPoint[3] = { 0, 0, 0 };
+  int64_t Owned[3] = { 0, 10, 10 };
+  int64_t FirstTriangle[3] = { 0, 0, 0 };
+
+  plod::OctreeView View()
+  {
+    this->FirstTriangle[0] = 0;
+    this->FirstTriangle[1] = this->Owned[0];
+    this->FirstTriangle[2] = this->Owned[0] + this->Owned[1];
+    plod::OctreeView v;
+    v.NumberOfNodes = 3;
+    v.FinestLevel = 1;
+    v.RootEdge = 1;
+    v.Level = Level;
+    v.Parent = Parent;
+    v.FirstChild = FirstChild;
+    v.ChildMask = Mask;
+    v.Vertex = Vertex;
+    v.ConeAxis = Axis;
+    v.ConeAngle = Angle;
+    v.ShapeError = Shape;
+    v.Diffuse = Diffuse;
+    v.Specular = Specular;
+    v.Flags = Flags;
+    v.Thickness = Thickness;
+    v.FirstPoint = FirstPoint;
+    v.FirstTriangle = FirstTriangle;
+    v.NumberOfTriangles = this->Owned[0] + this->Owned[1] + this->Owned[2];
+    return v;
+  }
+
+  /// One selection: the three states and reasons, and the figures.
+  struct Result
+  {
+    uint8_t State[3] = { 0, 0, 0 };
+    uint8_t Reason[3] = { 0, 0, 0 };
+    plod::SelectionStats Stats;
+  };
+  Result Select(const plod::SelectionInput& in)
+  {
+    plod::Selector s;
+    s.SetOctree(this->View());
+    Result r;
+    s.Select(in, r.State, r.Reason, nullptr, r.Stats);
+    return r;
   }
 };
 

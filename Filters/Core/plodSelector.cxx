@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace plod
@@ -167,39 +168,86 @@ bool ValidateSelectionInput(const SelectionInput& in, std::string* why)
   return true;
 }
 
-void Selector::SetOctree(const OctreeView& view)
+namespace
 {
-  this->View = view;
-  this->SinTheta.resize(view.NumberOfNodes);
-  this->CosTheta.resize(view.NumberOfNodes);
-  for (int64_t n = 0; n < view.NumberOfNodes; ++n)
-  {
-    this->SinTheta[n] = std::sin(view.ConeAngle[n]);
-    this->CosTheta[n] = std::cos(view.ConeAngle[n]);
-  }
-  this->Previous.clear();
+constexpr double Infinite = std::numeric_limits<double>::infinity();
+
+/// How far an error exceeds its tolerance: error / tolerance. A tolerance of 0 (written -1 by
+/// the walk: it accepts nothing) is exceeded infinitely.
+inline double Over(double error, double tolerance)
+{
+  return tolerance > 0 ? error / tolerance : Infinite;
 }
 
-void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason, uint8_t* cullMask,
-  SelectionStats& stats)
+/// Cheng §2 as an error over a tolerance: the cell's largest normal deviation 1 - cos(min(pi,
+/// 2 theta)) = 2 sin^2 theta (2 for a cone wider than pi/2) over the deviation the threshold
+/// allows, 1 - exp(-K D). At least 1 where ChengAccepts refuses; infinite at the fovea.
+inline double ChengExcess(double cosT, double sinT, double rate, double D)
 {
-  const OctreeView& v = this->View;
-  stats = SelectionStats();
-  for (int32_t n : this->Previous)
-  {
-    state[n] = NotInCut;
-    reason[n] = ReasonNone;
-    if (cullMask)
-    {
-      cullMask[n] = 0;
-    }
-  }
-  this->Previous.clear();
-  if (v.NumberOfNodes == 0)
-  {
-    return;
-  }
+  const double deviation = cosT > 0 ? 2.0 * sinT * sinT : 2.0;
+  const double allowed = -std::expm1(-rate * D);
+  return allowed > 0 ? deviation / allowed : Infinite;
+}
 
+/// What the per-cell tests (steps 1-4 and the rules of the file documentation) decide for one
+/// cell. Both walks follow it, so they cannot decide differently.
+enum class Verdict : uint8_t
+{
+  Hide,  ///< in the cut, not drawn (culled or back-facing)
+  Draw,  ///< in the cut, drawn at its representative vertex
+  Refine ///< the tolerances refine it (a leaf is opened)
+};
+
+struct Decision
+{
+  Verdict What;
+  uint8_t Reason;      ///< Hide, Draw: the CutReason
+  uint8_t Outside;     ///< Hide by the frustum: the planes the cell lies wholly outside
+  bool BrightnessOnly; ///< Refine: its children are tested for brightness only
+  bool Floor;          ///< Refine: minimum level or eye inside: refined whatever the budget
+  bool Topology;       ///< Refine: only because it is not topologically safe
+  double Priority;     ///< Refine, when asked for: how far its error exceeds its tolerance
+};
+
+inline Decision Hide(CutReason reason, uint8_t outside)
+{
+  return { Verdict::Hide, reason, outside, false, false, false, 0.0 };
+}
+
+inline Decision Draw(CutReason reason)
+{
+  return { Verdict::Draw, reason, 0, false, false, false, 0.0 };
+}
+
+inline Decision Refine(bool brightnessOnly, double priority, bool topology = false)
+{
+  return { Verdict::Refine, ReasonNone, 0, brightnessOnly, false, topology, priority };
+}
+
+inline Decision Floor(bool brightnessOnly)
+{
+  return { Verdict::Refine, ReasonNone, 0, brightnessOnly, true, false, Infinite };
+}
+
+/// What one frame's walk needs besides the cell: the input and the modes derived from it.
+struct Frame
+{
+  const OctreeView& V;
+  const SelectionInput& In;
+  const float* SinTheta;
+  const float* CosTheta;
+  bool Srcc;
+  bool Micro;
+  double Velocity;
+  bool VelocityAlone;
+  bool Cheng;
+  double Dop[3];
+  bool AnySpecular;
+};
+
+Frame MakeFrame(
+  const OctreeView& v, const SelectionInput& in, const float* sinTheta, const float* cosTheta)
+{
   const bool srcc = in.Error == ErrorModel::SRCC;
   const bool micro = in.Motion == MotionModel::MicroMotion;
   const double velocity =
@@ -211,326 +259,219 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     (in.Motion == MotionModel::InverseVelocity || in.Motion == MotionModel::DirectVelocity) &&
     in.Velocity == VelocityCriterion::Alone;
   const bool cheng = in.Error == ErrorModel::Cheng && !velocityAlone;
-  double dop[3] = { 0, 0, -1 };
+  Frame f{ v, in, sinTheta, cosTheta, srcc, micro, velocity, velocityAlone, cheng, { 0, 0, -1 },
+    false };
   if (in.Parallel)
   {
     const double l = std::sqrt(Dot(in.ProjectionDirection, in.ProjectionDirection));
     for (int a = 0; a < 3; ++a)
-      dop[a] = in.ProjectionDirection[a] / l;
+      f.Dop[a] = in.ProjectionDirection[a] / l;
   }
-  const bool anySpecular = [&] {
-    for (const SelectorLight& l : in.Lights)
-      if (l.Specular > 0)
-        return true;
-    return false;
-  }();
+  for (const SelectorLight& l : in.Lights)
+    f.AnySpecular = f.AnySpecular || l.Specular > 0;
+  return f;
+}
 
-  auto hide = [&](int64_t n, CutReason r) {
-    state[n] = CutHidden;
-    reason[n] = r;
-    this->Previous.push_back(static_cast<int32_t>(n));
-    ++stats.InCut;
-  };
-  auto draw = [&](int64_t n, CutReason r) {
-    state[n] = CutDrawn;
-    reason[n] = r;
-    this->Previous.push_back(static_cast<int32_t>(n));
-    ++stats.InCut;
-    ++stats.Drawn;
-  };
-  auto open = [&](int64_t n) {
-    state[n] = CutOpen;
-    reason[n] = OpenedLeaf;
-    this->Previous.push_back(static_cast<int32_t>(n));
-    ++stats.InCut;
-    ++stats.Drawn;
-    ++stats.Opened;
-  };
+/**
+ * The per-cell decision of the walk (SRCC §3.5 steps 1-4, the floors and the baselines; see the
+ * file documentation) for node `n` with cell coordinates `C`, tested for brightness only when
+ * `brightnessOnly`. With `WithPriority`, a refined cell also gets its priority (how far its
+ * error exceeds its tolerance); without it, none is computed.
+ */
+template <bool WithPriority>
+[[gnu::always_inline]] inline Decision Judge(
+  const Frame& f, int32_t n, const uint32_t C[3], bool brightnessOnly)
+{
+  const OctreeView& v = f.V;
+  const SelectionInput& in = f.In;
+  const int level = std::min<int>(v.Level[n], MaxFinestLevel);
+  const double h = v.CellEdge(level);
+  const double lo[3] = { C[0] * h, C[1] * h, C[2] * h };
 
-  // the walk's stack is a member: its capacity is kept from frame to frame
-  std::vector<Entry>& stack = this->Stack;
-  stack.clear();
-  stack.push_back({ 0, { 0, 0, 0 }, false });
-  // refine: the children go on (a leaf is opened); a child index that does not follow its
-  // parent (corrupt arrays) is never followed, so the walk always ends
-  auto refine = [&](const Entry& e, bool brightnessOnly) {
-    const unsigned mask = v.ChildMask[e.Node];
-    if (mask == 0)
-    {
-      open(e.Node);
-      return;
-    }
-    const int32_t first = v.FirstChild[e.Node];
-    if (first <= e.Node || first + __builtin_popcount(mask) > v.NumberOfNodes ||
-      v.Level[e.Node] >= MaxFinestLevel)
-    {
-      draw(e.Node, AcceptedError);
-      return;
-    }
-    for (int c = 7, r = __builtin_popcount(mask) - 1; c >= 0; --c)
-    {
-      if (mask & (1u << c))
-      {
-        stack.push_back({ first + r--,
-          { 2 * e.C[0] + (c & 1), 2 * e.C[1] + ((c >> 1) & 1), 2 * e.C[2] + ((c >> 2) & 1) },
-          brightnessOnly });
-      }
-    }
-  };
-
-  while (!stack.empty())
+  // 1. frustum
+  if (!brightnessOnly && in.UseFrustum)
   {
-    const Entry e = stack.back();
-    stack.pop_back();
-    const int32_t n = e.Node;
-    ++stats.Visited;
-    const int level = std::min<int>(v.Level[n], MaxFinestLevel);
-    const double h = v.CellEdge(level);
-    const double lo[3] = { e.C[0] * h, e.C[1] * h, e.C[2] * h };
-
-    // 1. frustum
-    if (!e.BrightnessOnly && in.UseFrustum)
+    uint8_t outside = 0;
+    for (int p = 0; p < 6; ++p)
     {
-      uint8_t outside = 0;
-      for (int p = 0; p < 6; ++p)
-      {
-        const double* pl = in.Planes[p];
-        double far = pl[3];
-        for (int a = 0; a < 3; ++a)
-          far += pl[a] * (pl[a] > 0 ? lo[a] + h : lo[a]);
-        outside |= far < 0 ? uint8_t(1u << p) : uint8_t(0);
-      }
-      if (outside)
-      {
-        hide(n, Culled);
-        if (cullMask)
-        {
-          cullMask[n] = outside;
-        }
-        continue;
-      }
-    }
-    // a cell coarser than the minimum level (incomplete on each process of a distributed
-    // rendering) is refined without any other test
-    if (level < in.MinimumLevel)
-    {
-      refine(e, false);
-      continue;
-    }
-    // a cell holding the eye has an unbounded error: refine it
-    const bool eyeInside = in.Eye[0] >= lo[0] && in.Eye[0] <= lo[0] + h && in.Eye[1] >= lo[1] &&
-      in.Eye[1] <= lo[1] + h && in.Eye[2] >= lo[2] && in.Eye[2] <= lo[2] + h;
-    if (eyeInside && !in.Parallel)
-    {
-      refine(e, e.BrightnessOnly);
-      continue;
-    }
-
-    const float* vf = &v.Vertex[3 * n];
-    const double x[3] = { vf[0], vf[1], vf[2] };
-    const float* nf = &v.ConeAxis[3 * n];
-    const double axis[3] = { nf[0], nf[1], nf[2] };
-    double ve[3], k;
-    if (in.Parallel)
-    {
+      const double* pl = in.Planes[p];
+      double far = pl[3];
       for (int a = 0; a < 3; ++a)
-        ve[a] = -dop[a];
-      k = in.PixelScale;
+        far += pl[a] * (pl[a] > 0 ? lo[a] + h : lo[a]);
+      outside |= far < 0 ? uint8_t(1u << p) : uint8_t(0);
+    }
+    if (outside)
+    {
+      return Hide(Culled, outside);
+    }
+  }
+  // a cell coarser than the minimum level (incomplete on each process of a distributed
+  // rendering) is refined without any other test
+  if (level < in.MinimumLevel)
+  {
+    return Floor(false);
+  }
+  // a cell holding the eye has an unbounded error: refine it
+  const bool eyeInside = in.Eye[0] >= lo[0] && in.Eye[0] <= lo[0] + h && in.Eye[1] >= lo[1] &&
+    in.Eye[1] <= lo[1] + h && in.Eye[2] >= lo[2] && in.Eye[2] <= lo[2] + h;
+  if (eyeInside && !in.Parallel)
+  {
+    return Floor(brightnessOnly);
+  }
+
+  const float* vf = &v.Vertex[3 * n];
+  const double x[3] = { vf[0], vf[1], vf[2] };
+  const float* nf = &v.ConeAxis[3 * n];
+  const double axis[3] = { nf[0], nf[1], nf[2] };
+  double ve[3], k;
+  if (in.Parallel)
+  {
+    for (int a = 0; a < 3; ++a)
+      ve[a] = -f.Dop[a];
+    k = in.PixelScale;
+  }
+  else
+  {
+    const double d[3] = { in.Eye[0] - x[0], in.Eye[1] - x[1], in.Eye[2] - x[2] };
+    const double dist = std::sqrt(Dot(d, d));
+    if (!(dist > 0))
+    {
+      // the eye on the vertex (outside the cell only through rounding): refine
+      return Floor(brightnessOnly);
+    }
+    for (int a = 0; a < 3; ++a)
+      ve[a] = d[a] / dist;
+    k = in.PixelScale / dist;
+  }
+
+  // tolerance factor: velocity (IPV/DPV) and foveation
+  double factor = f.Velocity;
+  double D = 0; // Cheng's normalised distance from the point of interest
+  if (in.Foveation != FoveationMode::Off)
+  {
+    if (in.Foveation == FoveationMode::Object)
+    {
+      const double* up = in.FoveationUp;
+      double r[3], fp[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        r[a] = x[a] - in.FoveationCentre[a];
+        fp[a] = in.FoveationPoint[a] - in.FoveationCentre[a];
+      }
+      const double y = Dot(r, up), fy = Dot(fp, up);
+      for (int a = 0; a < 3; ++a)
+      {
+        r[a] -= y * up[a];
+        fp[a] -= fy * up[a];
+      }
+      const double c[3] = { r[1] * fp[2] - r[2] * fp[1], r[2] * fp[0] - r[0] * fp[2],
+        r[0] * fp[1] - r[1] * fp[0] };
+      const double beta =
+        (Dot(r, r) > 0 && Dot(fp, fp) > 0) ? std::atan2(std::sqrt(Dot(c, c)), Dot(r, fp)) : 0.0;
+      D = in.FoveationWeights[0] * beta / Pi +
+        in.FoveationWeights[1] * std::abs(y - fy) / in.FoveationHeight;
     }
     else
     {
-      const double d[3] = { in.Eye[0] - x[0], in.Eye[1] - x[1], in.Eye[2] - x[2] };
-      const double dist = std::sqrt(Dot(d, d));
-      if (!(dist > 0))
-      {
-        // the eye on the vertex (outside the cell only through rounding): refine
-        refine(e, e.BrightnessOnly);
-        continue;
-      }
-      for (int a = 0; a < 3; ++a)
-        ve[a] = d[a] / dist;
-      k = in.PixelScale / dist;
+      const double* g = in.GazeDirection;
+      const double ray[3] = { -ve[0], -ve[1], -ve[2] };
+      const double c[3] = { ray[1] * g[2] - ray[2] * g[1], ray[2] * g[0] - ray[0] * g[2],
+        ray[0] * g[1] - ray[1] * g[0] };
+      D = std::atan2(std::sqrt(Dot(c, c)), Dot(ray, g)) / Pi;
     }
+    if (!f.Cheng)
+      factor *= std::exp(in.FoveationRate * D);
+  }
+  const double cosT = f.CosTheta[n], sinT = f.SinTheta[n];
+  if (f.Cheng)
+  {
+    // Cheng §2 alone: curvature against the foveated threshold exp(-K D)
+    if (ChengAccepts(cosT, sinT, in.FoveationRate, D))
+      return Draw(AcceptedError);
+    return Refine(false, WithPriority ? ChengExcess(cosT, sinT, in.FoveationRate, D) : 0.0);
+  }
+  // a tolerance of 0 accepts nothing (even an error of exactly 0)
+  const double Ts = in.ContourTolerance > 0 ? in.ContourTolerance * factor : -1.0;
+  const double Tb = in.BrightnessTolerance > 0 ? in.BrightnessTolerance * factor : -1.0;
 
-    // tolerance factor: velocity (IPV/DPV) and foveation
-    double factor = velocity;
-    double D = 0; // Cheng's normalised distance from the point of interest
-    if (in.Foveation != FoveationMode::Off)
+  const double dE = v.ShapeError[n];
+  const double c = Dot(axis, ve);
+  // v_f = A v + b (micro motion)
+  double vfm[3] = { 0, 0, 0 };
+  if (f.Micro)
+  {
+    for (int a = 0; a < 3; ++a)
+      vfm[a] =
+        in.MotionA[a][0] * x[0] + in.MotionA[a][1] * x[1] + in.MotionA[a][2] * x[2] + in.MotionB[a];
+  }
+
+  // a cell that is not a union of discs is refined while the part it could make vanish is
+  // thicker than a pixel (its tolerance follows motion and foveation like the others: DPV's
+  // infinite factor still accepts the root alone)
+  const bool unsafe =
+    !(v.Flags[n] & NodeTopologySafe) && double(v.Thickness[n]) * k > in.TopologyTolerance * factor;
+  // a cell whose edge projects within the contour tolerance cannot show more than it: its
+  // points lie within that many pixels of its vertex (the size floor of every mode)
+  const bool small = Ts >= 0 && h * k <= Ts && !unsafe;
+
+  if (f.VelocityAlone)
+  {
+    if (small)
+      return Draw(AcceptedSize);
+    return Refine(
+      false, WithPriority ? (unsafe ? Infinite : Over(h * k, Ts)) : 0.0, Ts >= 0 && h * k <= Ts);
+  }
+
+  if (!f.Srcc)
+  {
+    if (small && in.Error != ErrorModel::Distance)
     {
-      if (in.Foveation == FoveationMode::Object)
-      {
-        const double* up = in.FoveationUp;
-        double r[3], f[3];
-        for (int a = 0; a < 3; ++a)
-        {
-          r[a] = x[a] - in.FoveationCentre[a];
-          f[a] = in.FoveationPoint[a] - in.FoveationCentre[a];
-        }
-        const double y = Dot(r, up), fy = Dot(f, up);
-        for (int a = 0; a < 3; ++a)
-        {
-          r[a] -= y * up[a];
-          f[a] -= fy * up[a];
-        }
-        const double c[3] = { r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2],
-          r[0] * f[1] - r[1] * f[0] };
-        const double beta =
-          (Dot(r, r) > 0 && Dot(f, f) > 0) ? std::atan2(std::sqrt(Dot(c, c)), Dot(r, f)) : 0.0;
-        D = in.FoveationWeights[0] * beta / Pi +
-          in.FoveationWeights[1] * std::abs(y - fy) / in.FoveationHeight;
-      }
-      else
-      {
-        const double* g = in.GazeDirection;
-        const double ray[3] = { -ve[0], -ve[1], -ve[2] };
-        const double c[3] = { ray[1] * g[2] - ray[2] * g[1], ray[2] * g[0] - ray[0] * g[2],
-          ray[0] * g[1] - ray[1] * g[0] };
-        D = std::atan2(std::sqrt(Dot(c, c)), Dot(ray, g)) / Pi;
-      }
-      if (!cheng)
-        factor *= std::exp(in.FoveationRate * D);
+      return Draw(AcceptedSize);
     }
-    if (cheng)
+    if (in.Error == ErrorModel::Distance)
     {
-      // Cheng §2 alone: curvature against the foveated threshold exp(-K D)
-      if (ChengAccepts(this->CosTheta[n], this->SinTheta[n], in.FoveationRate, D))
-        draw(n, AcceptedError);
-      else
-        refine(e, false);
-      continue;
+      if (level >= in.DistanceLevel && !unsafe)
+        return Draw(AcceptedError);
+      // the cell's edge over the edge of the level Wang & Sato chose
+      return Refine(false,
+        WithPriority ? (unsafe ? Infinite : std::ldexp(1.0, in.DistanceLevel - level)) : 0.0);
     }
-    // a tolerance of 0 accepts nothing (even an error of exactly 0)
-    const double Ts = in.ContourTolerance > 0 ? in.ContourTolerance * factor : -1.0;
-    const double Tb = in.BrightnessTolerance > 0 ? in.BrightnessTolerance * factor : -1.0;
-
-    const double dE = v.ShapeError[n];
-    const double cosT = this->CosTheta[n], sinT = this->SinTheta[n];
-    const double c = Dot(axis, ve);
-    // v_f = A v + b (micro motion)
-    double vfm[3] = { 0, 0, 0 };
-    if (micro)
+    double tol = Ts;
+    if (in.Error == ErrorModel::PSEC)
     {
-      for (int a = 0; a < 3; ++a)
-        vfm[a] = in.MotionA[a][0] * x[0] + in.MotionA[a][1] * x[1] + in.MotionA[a][2] * x[2] +
-          in.MotionB[a];
-    }
-
-    // a cell that is not a union of discs is refined while the part it could make vanish is
-    // thicker than a pixel (its tolerance follows motion and foveation like the others: DPV's
-    // infinite factor still accepts the root alone)
-    const bool unsafe = !(v.Flags[n] & NodeTopologySafe) &&
-      double(v.Thickness[n]) * k > in.TopologyTolerance * factor;
-    // a cell whose edge projects within the contour tolerance cannot show more than it: its
-    // points lie within that many pixels of its vertex (the size floor of every mode)
-    const bool small = Ts >= 0 && h * k <= Ts && !unsafe;
-
-    if (velocityAlone)
-    {
-      if (small)
-        draw(n, AcceptedSize);
-      else
+      bool feature = !(cosT > 0 && (c > sinT || c < -sinT)); // on the contour
+      for (size_t i = 0; i < in.Lights.size() && !feature && f.AnySpecular; ++i)
       {
-        stats.TopologyRefined += (Ts >= 0 && h * k <= Ts) ? 1 : 0;
-        refine(e, false);
-      }
-      continue;
-    }
-
-    if (!srcc)
-    {
-      if (small && in.Error != ErrorModel::Distance)
-      {
-        draw(n, AcceptedSize);
-        continue;
-      }
-      if (in.Error == ErrorModel::Distance)
-      {
-        if (level >= in.DistanceLevel && !unsafe)
-          draw(n, AcceptedError);
-        else
-          refine(e, false);
-        continue;
-      }
-      double tol = Ts;
-      if (in.Error == ErrorModel::PSEC)
-      {
-        bool feature = !(cosT > 0 && (c > sinT || c < -sinT)); // on the contour
-        for (size_t i = 0; i < in.Lights.size() && !feature && anySpecular; ++i)
-        {
-          const SelectorLight& l = in.Lights[i];
-          if (l.Specular <= 0)
-            continue;
-          double vl[3];
-          for (int a = 0; a < 3; ++a)
-            vl[a] = l.Positional ? l.Position[a] - x[a] : l.Position[a];
-          const double ll = std::sqrt(Dot(vl, vl));
-          if (!(ll > 0))
-          {
-            feature = true;
-            break;
-          }
-          double hv[3];
-          for (int a = 0; a < 3; ++a)
-            hv[a] = vl[a] / ll + ve[a];
-          const double hl = std::sqrt(Dot(hv, hv));
-          feature = hl > 0 && Dot(axis, hv) / hl >= cosT;
-        }
-        if (feature)
-          tol *= in.PSECFactor;
-      }
-      const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
-      if (err <= tol && !unsafe)
-        draw(n, AcceptedError);
-      else
-      {
-        stats.TopologyRefined += err <= tol ? 1 : 0;
-        refine(e, false);
-      }
-      continue;
-    }
-
-    // 2. contour (SRCC eq. 4-5, TMM eq. 6-7)
-    CutReason accepted = AcceptedBrightness;
-    if (!e.BrightnessOnly)
-    {
-      if (cosT > 0 && c < -sinT)
-      {
-        if (in.HideBackFaces)
-          hide(n, BackFacing);
-        else
-          draw(n, BackFacing); // an open surface: seen from behind, drawn but not refined
-        continue;
-      }
-      if (small)
-      {
-        draw(n, AcceptedSize);
-        continue;
-      }
-      // an open surface's rim is a silhouette from every side: refined like the contour
-      if (v.Flags[n] & NodeBoundary)
-      {
-        refine(e, false);
-        continue;
-      }
-      if (!(cosT > 0 && c > sinT))
-      {
-        const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
-        if (err > Ts)
-        {
-          refine(e, false);
+        const SelectorLight& l = in.Lights[i];
+        if (l.Specular <= 0)
           continue;
+        double vl[3];
+        for (int a = 0; a < 3; ++a)
+          vl[a] = l.Positional ? l.Position[a] - x[a] : l.Position[a];
+        const double ll = std::sqrt(Dot(vl, vl));
+        if (!(ll > 0))
+        {
+          feature = true;
+          break;
         }
-        accepted = AcceptedContour;
+        double hv[3];
+        for (int a = 0; a < 3; ++a)
+          hv[a] = vl[a] / ll + ve[a];
+        const double hl = std::sqrt(Dot(hv, hv));
+        feature = hl > 0 && Dot(axis, hv) / hl >= cosT;
       }
+      if (feature)
+        tol *= in.PSECFactor;
     }
-    if (unsafe)
-    {
-      ++stats.TopologyRefined;
-      refine(e, e.BrightnessOnly);
-      continue;
-    }
+    const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
+    if (err <= tol && !unsafe)
+      return Draw(AcceptedError);
+    return Refine(false, WithPriority ? (unsafe ? Infinite : Over(err, tol)) : 0.0, err <= tol);
+  }
 
-    // 3. brightness (SRCC eq. 7-10, TMM eq. 11-13)
+  // 3. brightness (SRCC eq. 7-10, TMM eq. 11-13): the shading error in brightness x pixels,
+  // dB x projected size (computed only when a decision needs it)
+  auto shading = [&]() {
     double dB = 0;
     if (!in.Lights.empty())
     {
@@ -589,7 +530,7 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     // projected cell size, reduced by the motion across the view (v_d: n projected on the
     // plane normal to v_e; zero when n is parallel to v_e)
     double size = h * std::max(0.0, c);
-    if (micro)
+    if (f.Micro)
     {
       double vd[3];
       for (int a = 0; a < 3; ++a)
@@ -598,15 +539,368 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
       if (vdl > 1e-12)
         size = std::max(0.0, size - std::abs(Dot(vd, vfm)) / vdl);
     }
-    if (dB * size * k <= Tb)
-      draw(n, accepted);
+    return dB * size * k;
+  };
+  // a refinement for the contour (or a rim) is ranked by the larger of its errors over their
+  // tolerances: the contour's and the brightness'. The brightness error is at most
+  // h max(0, c) k (dB <= 1, motion only shrinks the size): when that bound cannot exceed the
+  // contour's ratio, the shading is not computed (measured: 30 % more ConeCosineRange calls)
+  auto contourPriority = [&](double overContour) {
+    if (unsafe || !(Tb > 0))
+      return Infinite;
+    if (h * std::max(0.0, c) * k <= overContour * Tb)
+      return overContour;
+    return std::max(overContour, Over(shading(), Tb));
+  };
+
+  // 2. contour (SRCC eq. 4-5, TMM eq. 6-7)
+  CutReason accepted = AcceptedBrightness;
+  if (!brightnessOnly)
+  {
+    if (cosT > 0 && c < -sinT)
+    {
+      if (in.HideBackFaces)
+        return Hide(BackFacing, 0);
+      return Draw(BackFacing); // an open surface: seen from behind, drawn but not refined
+    }
+    if (small)
+    {
+      return Draw(AcceptedSize);
+    }
+    // an open surface's rim is a silhouette from every side: refined like the contour, until
+    // its edge passes the size floor
+    if (v.Flags[n] & NodeBoundary)
+    {
+      return Refine(false, WithPriority ? contourPriority(Over(h * k, Ts)) : 0.0);
+    }
+    if (!(cosT > 0 && c > sinT))
+    {
+      const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
+      if (err > Ts)
+      {
+        return Refine(false, WithPriority ? contourPriority(Over(err, Ts)) : 0.0);
+      }
+      accepted = AcceptedContour;
+    }
+  }
+  if (unsafe)
+  {
+    return Refine(brightnessOnly, Infinite, true);
+  }
+  const double shadingError = shading();
+  if (shadingError <= Tb)
+    return Draw(accepted);
+  return Refine(true, WithPriority ? Over(shadingError, Tb) : 0.0);
+}
+
+/// Writes cut entries and counts them (both walks).
+struct CutWriter
+{
+  uint8_t* State;
+  uint8_t* Reason;
+  uint8_t* CullMask;
+  std::vector<int32_t>& Previous;
+  SelectionStats& Stats;
+
+  void Add(int64_t n, uint8_t state, uint8_t reason)
+  {
+    this->State[n] = state;
+    this->Reason[n] = reason;
+    this->Previous.push_back(static_cast<int32_t>(n));
+    ++this->Stats.InCut;
+    this->Stats.Drawn += IsDrawnState(state) ? 1 : 0;
+  }
+  /// A decision that puts the cell in the cut (Hide or Draw).
+  void Keep(int64_t n, const Decision& d)
+  {
+    if (d.What == Verdict::Hide)
+    {
+      this->Add(n, CutHidden, d.Reason);
+      if (this->CullMask && d.Outside)
+      {
+        this->CullMask[n] = d.Outside;
+      }
+    }
     else
-      refine(e, true);
+    {
+      this->Add(n, CutDrawn, d.Reason);
+    }
+  }
+};
+
+/// What refining a node reads of it.
+struct Refinement
+{
+  unsigned Mask;
+  int32_t First;
+  int Level;
+  int64_t Owned; // the triangles refining it adds to the cut: those it owns (plodOctree.h)
+};
+
+inline Refinement Refinable(const OctreeView& v, int64_t n)
+{
+  return { v.ChildMask[n], v.FirstChild[n], v.Level[n], v.TriangleEnd(n) - v.FirstTriangle[n] };
+}
+
+/**
+ * Refines the cell `e`: its children go on `stack`, tested for brightness only when
+ * `brightnessOnly`; a leaf is opened (it adds its own triangles). Returns the triangles the cut
+ * gains (Refinement::Owned). A child index that does not follow its parent (corrupt arrays) is
+ * never followed, so the walk always ends: the cell is drawn instead and nothing is gained.
+ */
+template <class EntryType>
+[[gnu::always_inline]] inline int64_t RefineCell(const OctreeView& v, const EntryType& e,
+  const Refinement& r, bool brightnessOnly, std::vector<EntryType>& stack, CutWriter& cut)
+{
+  if (r.Mask == 0)
+  {
+    cut.Add(e.Node, CutOpen, OpenedLeaf);
+    ++cut.Stats.Opened;
+    return r.Owned;
+  }
+  if (r.First <= e.Node || r.First + __builtin_popcount(r.Mask) > v.NumberOfNodes ||
+    r.Level >= MaxFinestLevel)
+  {
+    cut.Add(e.Node, CutDrawn, AcceptedError);
+    return 0;
+  }
+  for (int c = 7, k = __builtin_popcount(r.Mask) - 1; c >= 0; --c)
+  {
+    if (r.Mask & (1u << c))
+    {
+      stack.push_back({ r.First + k--,
+        { 2 * e.C[0] + (c & 1), 2 * e.C[1] + ((c >> 1) & 1), 2 * e.C[2] + ((c >> 2) & 1) },
+        brightnessOnly });
+    }
+  }
+  return r.Owned;
+}
+
+/// The bits of a non-negative float (or +infinity), which order as the numbers do.
+inline uint32_t OrderBits(float x)
+{
+  uint32_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  return bits;
+}
+
+inline float FromOrderBits(uint32_t bits)
+{
+  float x;
+  std::memcpy(&x, &bits, sizeof x);
+  return x;
+}
+
+/// Push and pop of a 4-ary max-heap under `less` (half the depth of std::push_heap's binary
+/// heap: measured, its pops cost less). `less` must be a strict total order on the items, so
+/// the order of the pops does not depend on the heap's shape.
+template <class T, class Less>
+void HeapPush(std::vector<T>& heap, const T& item, Less less)
+{
+  size_t i = heap.size();
+  heap.push_back(item);
+  while (i > 0)
+  {
+    const size_t parent = (i - 1) / 4;
+    if (!less(heap[parent], item))
+      break;
+    heap[i] = heap[parent];
+    i = parent;
+  }
+  heap[i] = item;
+}
+
+template <class T, class Less>
+void HeapPop(std::vector<T>& heap, Less less)
+{
+  const T last = heap.back();
+  heap.pop_back();
+  const size_t n = heap.size();
+  if (n == 0)
+    return;
+  size_t i = 0;
+  for (;;)
+  {
+    const size_t first = 4 * i + 1;
+    if (first >= n)
+      break;
+    size_t best = first;
+    const size_t end = std::min(first + 4, n);
+    for (size_t c = first + 1; c < end; ++c)
+      best = less(heap[best], heap[c]) ? c : best;
+    if (!less(last, heap[best]))
+      break;
+    heap[i] = heap[best];
+    i = best;
+  }
+  heap[i] = last;
+}
+} // namespace
+
+void Selector::SetOctree(const OctreeView& view)
+{
+  this->View = view;
+  this->SinTheta.resize(view.NumberOfNodes);
+  this->CosTheta.resize(view.NumberOfNodes);
+  for (int64_t n = 0; n < view.NumberOfNodes; ++n)
+  {
+    this->SinTheta[n] = std::sin(view.ConeAngle[n]);
+    this->CosTheta[n] = std::cos(view.ConeAngle[n]);
+  }
+  this->Previous.clear();
+}
+
+void Selector::ClearPrevious(uint8_t* state, uint8_t* reason, uint8_t* cullMask)
+{
+  for (int32_t n : this->Previous)
+  {
+    state[n] = NotInCut;
+    reason[n] = ReasonNone;
+    if (cullMask)
+    {
+      cullMask[n] = 0;
+    }
+  }
+  this->Previous.clear();
+}
+
+void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason, uint8_t* cullMask,
+  SelectionStats& stats)
+{
+  stats = SelectionStats();
+  this->ClearPrevious(state, reason, cullMask);
+  if (this->View.NumberOfNodes == 0)
+  {
+    return;
+  }
+  if (in.TriangleBudget > 0)
+  {
+    this->SelectWithinBudget(in, state, reason, cullMask, stats);
+  }
+  else
+  {
+    this->SelectDepthFirst(in, state, reason, cullMask, stats);
   }
   // internal invariants (debug builds): on a valid octree the walk writes a valid cut, and the
   // figures count it
   assert(stats.Drawn <= stats.InCut && stats.InCut == int64_t(this->Previous.size()));
-  assert(!ValidateOctree(v) || ValidateCut(v, state));
+  assert(!ValidateOctree(this->View) || ValidateCut(this->View, state));
+}
+
+// flatten: the decision, the refinement and the cone spreads inlined into the loop (measured on
+// the benchmark scene: 61 ns per visited node, against 67 ns with calls; 63 ns before the walks
+// shared Judge)
+[[gnu::flatten]] void Selector::SelectDepthFirst(const SelectionInput& in, uint8_t* state,
+  uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
+{
+  const OctreeView& v = this->View;
+  const Frame frame = MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data());
+  CutWriter cut{ state, reason, cullMask, this->Previous, stats };
+  // the walk's stack is a member: its capacity is kept from frame to frame
+  std::vector<Entry>& stack = this->Stack;
+  stack.clear();
+  stack.push_back({ 0, { 0, 0, 0 }, false });
+  int64_t triangles = 0;
+  while (!stack.empty())
+  {
+    const Entry e = stack.back();
+    stack.pop_back();
+    ++stats.Visited;
+    const Decision d = Judge<false>(frame, e.Node, e.C, e.BrightnessOnly);
+    if (d.What != Verdict::Refine)
+    {
+      cut.Keep(e.Node, d);
+      continue;
+    }
+    stats.TopologyRefined += d.Topology ? 1 : 0;
+    triangles += RefineCell(v, e, Refinable(v, e.Node), d.BrightnessOnly, stack, cut);
+  }
+  stats.BudgetTriangles = triangles;
+}
+
+// flatten: as SelectDepthFirst (84 ns per visited node against 88 ns)
+[[gnu::flatten]] void Selector::SelectWithinBudget(const SelectionInput& in, uint8_t* state,
+  uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
+{
+  const OctreeView& v = this->View;
+  const Frame frame = MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data());
+  CutWriter cut{ state, reason, cullMask, this->Previous, stats };
+  std::vector<Entry>& stack = this->Stack;
+  std::vector<Candidate>& queue = this->Queue;
+  std::vector<WaitingCell>& waiting = this->Waiting;
+  stack.clear();
+  queue.clear();
+  waiting.clear();
+  // max-heap order: the larger key, then the larger own priority (Candidate::Order), then the
+  // smaller node index (the coarser cell: nodes are stored level by level)
+  const auto below = [](const Candidate& a, const Candidate& b) {
+    return a.Order != b.Order ? a.Order < b.Order : a.Node > b.Node;
+  };
+  int64_t triangles = 0;
+  // judges the cells on the stack, children of a refinement of priority `bound`: cut cells are
+  // written, floors refined at once, the other refinements queued with a key of at most `bound`
+  // (monotone keys: the queue then yields refinements in non-increasing key order)
+  auto judgeStack = [&](float bound) {
+    while (!stack.empty())
+    {
+      const Entry e = stack.back();
+      stack.pop_back();
+      ++stats.Visited;
+      const Decision d = Judge<true>(frame, e.Node, e.C, e.BrightnessOnly);
+      if (d.What != Verdict::Refine)
+      {
+        cut.Keep(e.Node, d);
+        continue;
+      }
+      const Refinement r = Refinable(v, e.Node);
+      if (d.Floor)
+      {
+        triangles += RefineCell(v, e, r, d.BrightnessOnly, stack, cut);
+        continue;
+      }
+      // in single precision, as a non-negative number (whose bits order as it does); NaN or
+      // beyond float's range: infinite
+      const float priority = !(d.Priority < std::numeric_limits<float>::max())
+        ? std::numeric_limits<float>::infinity()
+        : d.Priority > 0 ? static_cast<float>(d.Priority)
+                         : 0.0f;
+      const uint64_t order =
+        uint64_t(OrderBits(std::min(priority, bound))) << 32 | OrderBits(priority);
+      HeapPush(queue, { order, e.Node, static_cast<uint32_t>(waiting.size()) }, below);
+      waiting.push_back(
+        { r.Owned, { e.C[0], e.C[1], e.C[2] }, r.First, static_cast<uint8_t>(r.Mask),
+          static_cast<uint8_t>(r.Level), d.BrightnessOnly, d.Topology });
+    }
+  };
+  stack.push_back({ 0, { 0, 0, 0 }, false });
+  judgeStack(std::numeric_limits<float>::infinity());
+  while (!queue.empty())
+  {
+    const Candidate top = queue.front();
+    const float key = FromOrderBits(static_cast<uint32_t>(top.Order >> 32));
+    const WaitingCell w = waiting[top.Slot];
+    // the first refinement that does not fit ends the walk: skipping to cheaper ones would break
+    // the nesting of cuts (a larger budget refines a superset of what a smaller one refines)
+    if (triangles + w.Owned > in.TriangleBudget)
+    {
+      stats.BudgetRefusedPriority = key;
+      stats.BudgetRefusedTriangles = w.Owned;
+      break;
+    }
+    HeapPop(queue, below);
+    stats.TopologyRefined += w.Topology ? 1 : 0;
+    const Entry e{ top.Node, { w.C[0], w.C[1], w.C[2] }, false };
+    triangles += RefineCell(
+      v, e, { w.ChildMask, w.FirstChild, w.Level, w.Owned }, w.ChildrenBrightnessOnly, stack, cut);
+    judgeStack(key);
+  }
+  // what the budget left unrefined is drawn at its representative vertex
+  for (const Candidate& c : queue)
+  {
+    cut.Add(c.Node, CutDrawn, BudgetLimited);
+  }
+  stats.BudgetTriangles = triangles;
+  stats.BudgetBinding = !queue.empty() || triangles > in.TriangleBudget;
 }
 
 } // namespace plod

@@ -2,7 +2,9 @@
 // Visited nodes per second and milliseconds per frame of vtkPerceptualLODSelector (the walk is
 // single-threaded) for each mode, on the generated 1,005,360-triangle model (octree level 9)
 // filling a 1920 x 1080 viewport, one directional light. Each iteration moves the eye a little
-// (a slow orbit), so every frame really selects.
+// (a slow orbit), so every frame really selects. BM_SelectBudget: the triangle budget's
+// priority-queue walk; BM_SelectBisection: the alternative it was chosen against (tolerances
+// scaled by a factor found by bisection, several walks a frame).
 //
 //   build/bin/BenchmarkSelector --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include "plodTestUtilities.h"
@@ -50,11 +52,10 @@ enum Mode
 const char* Names[] = { "SRCC", "SRCC+TMM", "SCVC", "PSEC", "Distance", "SRCC+IPV", "SRCC+DPV",
   "SRCC+foveation" };
 
-void BM_Select(benchmark::State& state)
+/// A selector on the benchmark's octree in one of the modes, tolerances T_s and 4 T_s.
+vtkSmartPointer<vtkPerceptualLODSelector> MakeSelector(int mode, double tolerance)
 {
-  const int mode = static_cast<int>(state.range(0));
-  const double tolerance = state.range(1) / 100.0; // contour tolerance in pixels
-  vtkNew<vtkPerceptualLODSelector> selector;
+  auto selector = vtkSmartPointer<vtkPerceptualLODSelector>::New();
   selector->SetContourTolerance(tolerance);
   selector->SetBrightnessTolerance(4 * tolerance);
   selector->SetInputData(GetOctree());
@@ -87,15 +88,18 @@ void BM_Select(benchmark::State& state)
     default:
       break;
   }
-  // the model (radius about 1.2) fills the 1080-pixel height at distance 4.5
-  const double distance = 4.5;
-  double previous[16];
-  bool first = true;
-  int frame = 0;
-  double visited = 0, seconds = 0;
-  for (auto _ : state)
+  return selector;
+}
+
+/// The slow orbit: sets frame `frame`'s view (and the previous frame's matrix for motion).
+class Orbit
+{
+public:
+  void Next(vtkPerceptualLODSelector* selector)
   {
-    const double a = 0.002 * frame++;
+    // the model (radius about 1.2) fills the 1080-pixel height at distance 4.5
+    const double distance = 4.5;
+    const double a = 0.002 * this->Frame++;
     vtkNew<vtkCamera> camera;
     camera->SetPosition(distance * std::sin(a), 0.0, distance * std::cos(a));
     camera->SetFocalPoint(0, 0, 0);
@@ -107,15 +111,33 @@ void BM_Select(benchmark::State& state)
     double now[16];
     vtkMatrix4x4::DeepCopy(now, camera->GetViewTransformMatrix());
     selector->SetObjectToViewMatrix(now);
-    if (!first)
+    if (!this->First)
     {
-      selector->SetPreviousObjectToViewMatrix(previous);
+      selector->SetPreviousObjectToViewMatrix(this->Previous);
       selector->HasPreviousFrameOn();
       selector->SetPreviousFrameTime(1.0 / 60.0);
       camera->SetPosition(0, 0, 0); // (keeps the compiler from caching the camera)
     }
-    std::copy(now, now + 16, previous);
-    first = false;
+    std::copy(now, now + 16, this->Previous);
+    this->First = false;
+  }
+
+private:
+  double Previous[16];
+  bool First = true;
+  int Frame = 0;
+};
+
+void BM_Select(benchmark::State& state)
+{
+  const int mode = static_cast<int>(state.range(0));
+  const double tolerance = state.range(1) / 100.0; // contour tolerance in pixels
+  auto selector = MakeSelector(mode, tolerance);
+  Orbit orbit;
+  double visited = 0, seconds = 0;
+  for (auto _ : state)
+  {
+    orbit.Next(selector);
     selector->Update();
     state.SetIterationTime(selector->GetSelectTime());
     visited += static_cast<double>(selector->GetNumberOfVisitedNodes());
@@ -124,7 +146,125 @@ void BM_Select(benchmark::State& state)
   state.counters["Mvisited/s"] = visited / seconds * 1e-6;
   state.counters["visited"] = static_cast<double>(selector->GetNumberOfVisitedNodes());
   state.counters["drawn"] = static_cast<double>(selector->GetNumberOfDrawnNodes());
+  state.counters["triangles"] = static_cast<double>(selector->GetNumberOfBudgetTriangles());
   state.SetLabel(std::string(Names[mode]) + " T_s=" + std::to_string(tolerance).substr(0, 4));
+}
+
+/// The triangles of the tolerance cut at the orbit's first view (the budgets are fractions of
+/// it).
+vtkIdType ToleranceTriangles(int mode, double tolerance)
+{
+  auto selector = MakeSelector(mode, tolerance);
+  Orbit orbit;
+  orbit.Next(selector);
+  selector->Update();
+  return selector->GetNumberOfBudgetTriangles();
+}
+
+/// The budget walk (priority-queue refinement from the root) with a budget of range(2) percent
+/// of the tolerance cut's triangles: below 100 binding, above not.
+void BM_SelectBudget(benchmark::State& state)
+{
+  const int mode = static_cast<int>(state.range(0));
+  const double tolerance = state.range(1) / 100.0;
+  const vtkIdType budget = ToleranceTriangles(mode, tolerance) * state.range(2) / 100;
+  auto selector = MakeSelector(mode, tolerance);
+  selector->SetTriangleBudget(budget);
+  Orbit orbit;
+  double visited = 0, seconds = 0, binding = 0, frames = 0;
+  for (auto _ : state)
+  {
+    orbit.Next(selector);
+    selector->Update();
+    state.SetIterationTime(selector->GetSelectTime());
+    visited += static_cast<double>(selector->GetNumberOfVisitedNodes());
+    seconds += selector->GetSelectTime();
+    binding += selector->GetBudgetWasBinding() ? 1 : 0;
+    ++frames;
+  }
+  state.counters["Mvisited/s"] = visited / seconds * 1e-6;
+  state.counters["visited"] = static_cast<double>(selector->GetNumberOfVisitedNodes());
+  state.counters["drawn"] = static_cast<double>(selector->GetNumberOfDrawnNodes());
+  state.counters["triangles"] = static_cast<double>(selector->GetNumberOfBudgetTriangles());
+  state.counters["budget"] = static_cast<double>(budget);
+  state.counters["binding"] = binding / frames;
+  state.SetLabel(std::string(Names[mode]) + " T_s=" + std::to_string(tolerance).substr(0, 4) +
+    " budget " + std::to_string(state.range(2)) + "%");
+}
+
+/**
+ * The alternative the budget walk was chosen against: scale both tolerances by a factor s and
+ * search s by bisection so that the tolerance walk's cut fits the budget, starting from the
+ * previous frame's factor. Each frame: one walk at the previous s, then walks bisecting log s
+ * in [s / 2, s] or [s, 2 s] (widened while nothing fits) until range(3) walks are done; the
+ * finest fitting s is kept. Reported: the select time of all the frame's
+ * walks and how close the kept cut comes to the budget.
+ */
+void BM_SelectBisection(benchmark::State& state)
+{
+  const int mode = static_cast<int>(state.range(0));
+  const double tolerance = state.range(1) / 100.0;
+  const vtkIdType budget = ToleranceTriangles(mode, tolerance) * state.range(2) / 100;
+  const int walks = static_cast<int>(state.range(3));
+  auto selector = MakeSelector(mode, tolerance);
+  Orbit orbit;
+  double scale = 1, visited = 0, seconds = 0, fill = 0, frames = 0;
+  for (auto _ : state)
+  {
+    orbit.Next(selector);
+    double frameSeconds = 0;
+    auto walk = [&](double s) {
+      selector->SetContourTolerance(tolerance * s);
+      selector->SetBrightnessTolerance(4 * tolerance * s);
+      selector->Update();
+      frameSeconds += selector->GetSelectTime();
+      visited += static_cast<double>(selector->GetNumberOfVisitedNodes());
+      return selector->GetNumberOfBudgetTriangles();
+    };
+    // log-scale bisection of the bracket [fine, coarse] (coarse: larger tolerances, fewer
+    // triangles); until a factor fits, the coarse end is tried and the bracket widened
+    double best = -1, fine = scale / 2, coarse = scale * 2;
+    vtkIdType bestCount = 0;
+    auto fits = [&](double s) {
+      const vtkIdType count = walk(s);
+      if (count > budget)
+        return false;
+      if (best < 0 || s < best)
+      {
+        best = s;
+        bestCount = count;
+      }
+      return true;
+    };
+    if (fits(scale))
+      coarse = scale;
+    else
+      fine = scale;
+    for (int w = 1; w < walks; ++w)
+    {
+      const double s = best < 0 ? coarse : std::sqrt(fine * coarse);
+      if (fits(s))
+        coarse = s;
+      else
+      {
+        fine = s;
+        if (best < 0)
+          coarse = 2 * s;
+      }
+    }
+    scale = best > 0 ? best : coarse; // the next frame starts here
+    state.SetIterationTime(frameSeconds);
+    seconds += frameSeconds;
+    fill += budget > 0 ? double(bestCount) / double(budget) : 0;
+    ++frames;
+  }
+  state.counters["Mvisited/s"] = visited / seconds * 1e-6;
+  state.counters["visited/frame"] = visited / frames;
+  state.counters["budget"] = static_cast<double>(budget);
+  state.counters["fill"] = fill / frames; // kept cut's triangles over the budget
+  state.counters["scale"] = scale;
+  state.SetLabel(std::string(Names[mode]) + " T_s=" + std::to_string(tolerance).substr(0, 4) +
+    " budget " + std::to_string(state.range(2)) + "%, " + std::to_string(walks) + " walks");
 }
 }
 
@@ -135,6 +275,19 @@ BENCHMARK(BM_Select)
   ->ArgsProduct({ benchmark::CreateDenseRange(SRCC, FOVEATED, 1), { 100 } })
   ->Args({ SRCC, 25 })
   ->Args({ SRCC_TMM, 25 })
+  ->UseManualTime()
+  ->Unit(benchmark::kMillisecond);
+
+// the triangle budget beside the tolerance walk above: SRCC and SRCC+TMM at T_s = 0.25 and 1,
+// budgets of 25 % (binding) and 200 % (not binding) of the tolerance cut's triangles
+BENCHMARK(BM_SelectBudget)
+  ->ArgsProduct({ { SRCC, SRCC_TMM }, { 25, 100 }, { 25, 200 } })
+  ->UseManualTime()
+  ->Unit(benchmark::kMillisecond);
+
+// the alternative: bisection of a tolerance scale factor, 5 and 7 walks a frame, same budgets
+BENCHMARK(BM_SelectBisection)
+  ->ArgsProduct({ { SRCC, SRCC_TMM }, { 25, 100 }, { 25 }, { 5, 7 } })
   ->UseManualTime()
   ->Unit(benchmark::kMillisecond);
 

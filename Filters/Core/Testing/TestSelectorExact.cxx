@@ -645,3 +645,366 @@ TEST(SelectorExact, MinimumLevelMustBeALevel)
     EXPECT_NE(why.find("minimum level"), std::string::npos) << why;
   }
 }
+
+// ---- triangle budget: priority-queue refinement from the root --------------------------------
+//
+// plodtest::Fork: a root (vertex (0.5, 0.5, 0.5)) with two leaves, A (node 1, vertex (0.25,
+// 0.25, 0.25)) and B (node 2, vertex (0.75, 0.25, 0.25)). The eye is 10 above B, one light
+// along +z, T_s = 1, T_b = 4 (screen distance 1000 px):
+// - the root (axis +x, cone 1.0: on the contour) fails its contour test by 0.1 k_R = 10.3
+//   (its brightness error over T_b, 0.56, is smaller), so its children get every test;
+// - B (cone 0.8, eye on its axis: c = 1, k = 100, edge 0.5) fails brightness by
+//   rB = (1 - cos 0.8) 0.5 x 100 / 4 = 3.79;
+// - A's axis is +x: seen from 10 above it is on the contour (c = 0.05 < sin 0.2), where its
+//   shape error dE fails by dE k_A / T_s, k_A = 1000 / |(0.5, 0, 10)| (its brightness error
+//   over T_b, 0.12, is smaller).
+
+namespace
+{
+struct ForkScene
+{
+  plodtest::Fork T;
+  plod::SelectionInput In = Viewer(0.75, 0.25, 10.25);
+  ForkScene()
+  {
+    this->T.Angle[0] = 1.0f;
+    this->T.Angle[2] = 0.8f;
+    this->T.Axis[0] = 1; // the root: +x
+    this->T.Axis[2] = 0;
+    this->T.Shape[0] = 0.1f;
+    this->T.Axis[3] = 1; // A: +x
+    this->T.Axis[5] = 0;
+    this->In.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 1, 0 });
+  }
+  /// B's brightness error over T_b (the float cosine the selector caches).
+  double B() const
+  {
+    return (1.0 - double(std::cos(0.8f))) * 0.5 * 100 / this->In.BrightnessTolerance;
+  }
+  /// The root's contour error over T_s.
+  double Root() const
+  {
+    const double l = std::sqrt(0.25 * 0.25 * 2 + 9.75 * 9.75);
+    return double(this->T.Shape[0]) * (1000 / l) / this->In.ContourTolerance;
+  }
+  static double KA() { return 1000 / std::sqrt(0.25 + 100); }
+  /// Gives A a contour error of `ratio` times its contour tolerance.
+  void SetA(double ratio) { this->T.Shape[1] = float(ratio * this->In.ContourTolerance / KA()); }
+  plodtest::Fork::Result Select(int64_t budget)
+  {
+    this->In.TriangleBudget = budget;
+    return this->T.Select(this->In);
+  }
+};
+} // namespace
+
+TEST(SelectorExact, BudgetRefinesTheHigherErrorOverToleranceFirst)
+{
+  // Room for the root (0 triangles) and one leaf (10): the leaf whose error exceeds its
+  // tolerance by more is opened, the other drawn at its vertex. A boundary test: A's contour
+  // ratio 1 % either side of B's brightness ratio.
+  ForkScene s;
+  s.SetA(1.01 * s.B());
+  auto r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.State[2], plod::CutDrawn);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_TRUE(r.Stats.BudgetBinding);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 10);
+  // the refused refinement is B's, at its error over tolerance exactly
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, s.B(), 1e-5 * s.B());
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 10);
+  s.SetA(0.99 * s.B());
+  r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.State[1], plod::CutDrawn);
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 0.99 * s.B(), 1e-5 * s.B());
+
+  // each error is over its own tolerance: T_b = 8 halves B's ratio, T_s = 2 halves A's
+  s.In.BrightnessTolerance = 8;
+  s.SetA(0.99 * 2 * s.B()); // 0.99 of B's ratio at T_b = 4: now above B's
+  EXPECT_EQ(s.Select(10).State[1], plod::CutOpen);
+  s.In.BrightnessTolerance = 4;
+  s.SetA(1.01 * s.B());
+  s.In.ContourTolerance = 2; // A's ratio halves
+  EXPECT_EQ(s.Select(10).State[2], plod::CutOpen);
+  s.In.ContourTolerance = 1;
+
+  // micro motion along A's axis lowers its contour error as in the walk (TMM eq. 7): |n.v_f|
+  // of 0.02 rB / k_A takes A from 1.01 rB to 0.99 rB (B, seen along its axis, is unchanged)
+  s.In.Motion = plod::MotionModel::MicroMotion;
+  s.In.MotionB[0] = 0.02 * s.B() / ForkScene::KA();
+  EXPECT_EQ(s.Select(10).State[2], plod::CutOpen);
+  s.In.MotionB[0] = 0;
+  EXPECT_EQ(s.Select(10).State[1], plod::CutOpen);
+  s.In.Motion = plod::MotionModel::None;
+
+  // foveation multiplies each cell's tolerances by exp(K D): the gaze on B (D = 0), A's view ray
+  // atan(0.05) off it: with K = 10 A's tolerance grows by 1.1725, so a contour ratio 1.1 rB
+  // drops to 0.94 rB
+  s.SetA(1.1 * s.B());
+  EXPECT_EQ(s.Select(10).State[1], plod::CutOpen);
+  s.In.Foveation = plod::FoveationMode::Screen;
+  s.In.FoveationRate = 10;
+  EXPECT_EQ(s.Select(10).State[2], plod::CutOpen);
+  s.In.FoveationRate = 1; // factor 1.016: A still first
+  EXPECT_EQ(s.Select(10).State[1], plod::CutOpen);
+}
+
+TEST(SelectorExact, BudgetRanksAContourCellByTheLargerOfItsTwoRatios)
+{
+  // A on the contour with a small contour error (2 x T_s) but a large shading error: its axis
+  // 70 degrees from its view direction (c = cos 70 = 0.342 < sin 1.2), cone 1.2, the light 72.9
+  // degrees off the axis: dB = cos(72.9 deg - 1.2) = 0.997 over 0.5 c k_A / T_b = 4.26 x T_b.
+  // It outranks B (3.79) by its brightness, not by its contour error.
+  ForkScene s;
+  const double phi = 70 * Pi / 180 + std::atan(0.05);
+  s.T.Axis[3] = float(std::sin(phi));
+  s.T.Axis[5] = float(std::cos(phi));
+  s.T.Angle[1] = 1.2f;
+  s.SetA(2);
+  auto r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, s.B(), 1e-5 * s.B());
+  // T_b doubled halves both shading ratios (2.13 and 1.90) while A's contour ratio stays 2:
+  // A still goes first, by its shading
+  s.In.BrightnessTolerance = 8;
+  r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+}
+
+TEST(SelectorExact, BudgetRefinesTopologyFirst)
+{
+  // B is refined only for its topology (not a union of discs, 1 unit thick: 100 px), its cone
+  // too narrow for a brightness error: infinitely over, before A (50 x T_s). The root is a
+  // floor (minimum level 1), so the children's keys are their own.
+  ForkScene s;
+  s.In.MinimumLevel = 1;
+  s.T.Angle[2] = 0.01f;
+  s.T.Flags[2] = 0;
+  s.T.Thickness[2] = 1;
+  s.SetA(50);
+  auto r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.TopologyRefined, 1);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 50, 1e-3);
+  s.T.Flags[2] = plod::NodeTopologySafe; // safe: B is accepted, A refined
+  r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::AcceptedBrightness);
+}
+
+TEST(SelectorExact, BudgetPriorityOfTheBaselines)
+{
+  // SCVC: the shape error over T_s everywhere. A (axis +x) and B (axis +z) at about the same
+  // distance: the larger shape error goes first.
+  ForkScene s;
+  s.In.Error = plod::ErrorModel::SCVC;
+  s.In.Lights.clear();
+  s.T.Shape[0] = 1;      // the root: far above its tolerance (103 px)
+  s.T.Shape[1] = 0.031f; // A: 0.031 x 99.88 = 3.10 px
+  s.T.Shape[2] = 0.030f; // B: 0.030 x 100 = 3.00 px
+  auto r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 0.030 * 100, 1e-4);
+  s.T.Shape[1] = 0.0299f; // 2.986 px
+  EXPECT_EQ(s.Select(10).State[2], plod::CutOpen);
+  // Distance: every cell coarser than the chosen level, ranked by its edge over that level's:
+  // the root (level 0, DistanceLevel 2) first at 4, then A and B at 2 each: the tie goes to the
+  // smaller node index, A
+  s.In.Error = plod::ErrorModel::Distance;
+  s.In.DistanceLevel = 2;
+  r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_DOUBLE_EQ(r.Stats.BudgetRefusedPriority, 2.0);
+  r = s.Select(9); // not even A: the root alone is refined
+  EXPECT_DOUBLE_EQ(r.Stats.BudgetRefusedPriority, 2.0);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 0);
+  // Cheng: 1 - cos 2 theta = 2 sin^2 theta over 1 - exp(-K D). B at the gaze (D = 0) is
+  // infinitely over; A (D = atan(0.05) / pi, K = 100: 1 - T = 0.796) by 2 sin^2 0.2 / 0.796
+  s.In.Error = plod::ErrorModel::Cheng;
+  s.In.Foveation = plod::FoveationMode::Screen;
+  s.In.FoveationRate = 100;
+  s.T.Angle[1] = 0.7f; // A: 2 sin^2 0.7 = 0.830 > 0.796: refined
+  r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  const double D = std::atan(0.05) / Pi;
+  const double sinA = double(std::sin(0.7f));
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 2 * sinA * sinA / (1 - std::exp(-100 * D)), 1e-5);
+}
+
+TEST(SelectorExact, BudgetStopsAtTheFirstRefinementThatDoesNotFit)
+{
+  // A first (its ratio is larger) but it owns 20 triangles: a budget of 10 stops there, and B
+  // (5, which would fit) is not refined either: a larger budget must refine a superset
+  ForkScene s;
+  s.T.Owned[1] = 20;
+  s.T.Owned[2] = 5;
+  s.SetA(1.5 * s.B());
+  auto r = s.Select(10);
+  EXPECT_EQ(r.State[0], plod::NotInCut); // the root (no triangle of its own) is refined
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 0);
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 20);
+  EXPECT_TRUE(r.Stats.BudgetBinding);
+  r = s.Select(24); // A fits, then B does not
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 20);
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 5);
+  r = s.Select(25); // both: the tolerance cut, not binding
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_FALSE(r.Stats.BudgetBinding);
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 0);
+  EXPECT_EQ(r.Stats.BudgetRefusedPriority, 0);
+}
+
+TEST(SelectorExact, BudgetCountsTheTrianglesOfRefinedNodesAndOpenedLeaves)
+{
+  ForkScene s;
+  s.T.Owned[0] = 3;
+  s.T.Owned[1] = 4;
+  s.T.Owned[2] = 5;
+  s.SetA(1.5 * s.B());
+  // without a budget the walk counts too: the root refined (3), both leaves opened (4 + 5)
+  auto r = s.Select(0);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 12);
+  EXPECT_FALSE(r.Stats.BudgetBinding);
+  const struct
+  {
+    int64_t Budget, Triangles;
+    uint8_t A, B;
+  } cases[] = { { 12, 12, plod::CutOpen, plod::CutOpen },
+    { 11, 7, plod::CutOpen, plod::CutDrawn }, // root + A; B's 5 do not fit
+    { 7, 7, plod::CutOpen, plod::CutDrawn }, { 6, 3, plod::CutDrawn, plod::CutDrawn },
+    { 3, 3, plod::CutDrawn, plod::CutDrawn } };
+  for (const auto& c : cases)
+  {
+    r = s.Select(c.Budget);
+    EXPECT_EQ(r.Stats.BudgetTriangles, c.Triangles) << c.Budget;
+    EXPECT_EQ(r.State[1], c.A) << c.Budget;
+    EXPECT_EQ(r.State[2], c.B) << c.Budget;
+    EXPECT_EQ(r.Stats.BudgetBinding, c.Budget < 12) << c.Budget;
+  }
+  // the root alone counts 0 triangles (it is one point): a budget below its 3 keeps it
+  r = s.Select(2);
+  EXPECT_EQ(r.State[0], plod::CutDrawn);
+  EXPECT_EQ(r.Reason[0], plod::BudgetLimited);
+  EXPECT_EQ(r.State[1], plod::NotInCut);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 0);
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 3);
+  EXPECT_EQ(r.Stats.Visited, 1);
+  EXPECT_EQ(r.Stats.InCut, 1);
+  EXPECT_EQ(r.Stats.Drawn, 1);
+}
+
+TEST(SelectorExact, BudgetKeysNeverExceedTheRefinementThatReachedThem)
+{
+  // A's own ratio (30) exceeds the root's (10.3), whose refinement reached it: A waits with the
+  // root's key (monotone keys: the queue yields keys in non-increasing order), so the refused
+  // priority is the root's; among equal keys the larger own ratio goes first.
+  ForkScene s;
+  s.T.Owned[1] = 20;
+  s.SetA(30);
+  ASSERT_GT(30, s.Root());
+  auto r = s.Select(10);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, s.Root(), 1e-5 * s.Root());
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 20); // A's
+  // B above the root too (T_b small): both keys are the root's; the larger own ratio first
+  s.T.Owned[1] = 10;
+  s.In.BrightnessTolerance = 4 * s.B() / 20; // B: 20, A: 30: A first
+  const double root = s.Root();
+  r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, root, 1e-5 * root);
+  s.SetA(15); // still above the root's key: B (20) first now
+  r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, root, 1e-5 * root); // A's key, the root's
+}
+
+TEST(SelectorExact, BudgetTiesGoToTheSmallerNodeIndex)
+{
+  // zero tolerances accept nothing: every refinement is infinitely over; A (node 1) before B
+  ForkScene s;
+  s.In.ContourTolerance = s.In.BrightnessTolerance = 0;
+  auto r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetRefusedPriority, std::numeric_limits<double>::infinity());
+}
+
+TEST(SelectorExact, BudgetFloorsAreRefinedWhateverTheBudget)
+{
+  ForkScene s;
+  s.T.Owned[0] = 5;
+  s.SetA(2);
+  // the eye inside the root and inside B: both refined with a budget of 1 (B is opened); A,
+  // which does not hold the eye, waits and is refused; the floors' 15 triangles exceed the
+  // budget, which is reported as binding
+  s.In.Eye[0] = 0.75;
+  s.In.Eye[1] = 0.25;
+  s.In.Eye[2] = 0.4;
+  auto r = s.Select(1);
+  EXPECT_EQ(r.State[0], plod::NotInCut);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 15);
+  EXPECT_TRUE(r.Stats.BudgetBinding);
+  // the minimum level (distributed rendering): the root refined with a budget of 1
+  s = ForkScene();
+  s.T.Owned[0] = 5;
+  s.SetA(2);
+  s.In.MinimumLevel = 1;
+  r = s.Select(1);
+  EXPECT_EQ(r.State[0], plod::NotInCut);
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 5);
+  EXPECT_TRUE(r.Stats.BudgetBinding);
+  s.In.MinimumLevel = 2; // the leaves too
+  r = s.Select(1);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 25);
+  // the topology rule is not a floor: an unsafe root (a tube) waits for the budget like any
+  // refinement (first, being infinitely over)
+  s = ForkScene();
+  s.T.Owned[0] = 5;
+  s.T.Flags[0] = 0;
+  s.T.Thickness[0] = 1;
+  r = s.Select(4);
+  EXPECT_EQ(r.Reason[0], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetRefusedPriority, std::numeric_limits<double>::infinity());
+  r = s.Select(5);
+  EXPECT_EQ(r.State[0], plod::NotInCut);
+  EXPECT_EQ(r.Stats.TopologyRefined, 0); // the root also fails brightness
+}
+
+TEST(SelectorExact, NoBudgetOrANonBindingOneGivesTheToleranceCut)
+{
+  ForkScene s;
+  s.T.Owned[0] = 3;
+  s.SetA(2);
+  const auto base = s.Select(0);
+  ASSERT_EQ(base.Stats.BudgetTriangles, 23);
+  for (int64_t budget : { int64_t(-3), int64_t(23), int64_t(24), int64_t(1) << 40 })
+  {
+    const auto r = s.Select(budget);
+    for (int n = 0; n < 3; ++n)
+    {
+      EXPECT_EQ(r.State[n], base.State[n]) << budget;
+      EXPECT_EQ(r.Reason[n], base.Reason[n]) << budget;
+    }
+    EXPECT_EQ(r.Stats.BudgetTriangles, 23);
+    EXPECT_FALSE(r.Stats.BudgetBinding);
+    EXPECT_EQ(r.Stats.Visited, base.Stats.Visited);
+  }
+  EXPECT_TRUE(s.Select(22).Stats.BudgetBinding);
+}

@@ -4,6 +4,7 @@
 // brightness, IPV/DPV, Wang & Sato, Cheng), invariants over random views, extremes, bad input.
 #include "plodCut.h"
 #include "plodOctree.h"
+#include "plodPatches.h"
 #include "plodSelector.h"
 #include "plodTestUtilities.h"
 #include "plodTinyOctree.h"
@@ -27,6 +28,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <sstream>
 
@@ -1001,4 +1003,367 @@ TEST(PerceptualLODSelector, MinimumLevelRefinesEveryCoarserCellButCulledOnes)
   std::ostringstream text;
   p.Selector->PrintSelf(text, vtkIndent());
   EXPECT_NE(text.str().find("MinimumLevel: 21"), std::string::npos);
+}
+
+// ---- triangle budget on real octrees -----------------------------------------------------------
+
+namespace
+{
+/// The kernel on a built octree: selections in octree-local coordinates, their cuts and patches.
+struct BudgetScene
+{
+  vtkNew<vtkMultiscaleOctreeBuilder> Builder;
+  plod::OctreeView View;
+  plod::Selector Kernel;
+  std::vector<uint8_t> State, Reason, Mask;
+  plod::PatchResult Patches;
+  bool Closed = true;
+
+  BudgetScene(vtkPolyData* model, int level)
+  {
+    this->Builder->SetInputData(model);
+    this->Builder->SetFinestLevel(level);
+    this->Builder->Update();
+    this->Builder->GetOutput()->GetView(this->View);
+    this->Closed = this->Builder->GetOutput()->GetNumberOfBoundaryEdges() == 0;
+    this->Kernel.SetOctree(this->View);
+    this->State.assign(this->View.NumberOfNodes, 0);
+    this->Reason.assign(this->View.NumberOfNodes, 0);
+    this->Mask.assign(this->View.NumberOfNodes, 0);
+  }
+  /// A view from `eye` towards `focus` (world coordinates), frustum from a vtkCamera, one light.
+  plod::SelectionInput Look(const double eye[3], const double focus[3], double angle = 30) const
+  {
+    vtkNew<vtkCamera> camera;
+    camera->SetPosition(eye);
+    camera->SetFocalPoint(focus);
+    camera->SetViewAngle(angle);
+    double planes[24];
+    camera->GetFrustumPlanes(16.0 / 9.0, planes);
+    plod::SelectionInput in;
+    const double* o = this->View.Origin;
+    for (int a = 0; a < 3; ++a)
+      in.Eye[a] = eye[a] - o[a];
+    in.UseFrustum = true;
+    for (int p = 0; p < 6; ++p)
+    {
+      const double* w = planes + 4 * p;
+      for (int a = 0; a < 3; ++a)
+        in.Planes[p][a] = w[a];
+      in.Planes[p][3] = w[3] + w[0] * o[0] + w[1] * o[1] + w[2] * o[2];
+    }
+    in.PixelScale = 540 / std::tan(0.5 * angle * Pi / 180);
+    in.HideBackFaces = this->Closed;
+    double light[3] = { 0.3, 0.6, 1.0 };
+    vtkMath::Normalize(light);
+    in.Lights.push_back({ false, { light[0], light[1], light[2] }, 0.8, 0.5 });
+    in.Specular = 0.3;
+    in.SpecularPower = 20;
+    return in;
+  }
+  plod::SelectionStats Select(const plod::SelectionInput& in)
+  {
+    plod::SelectionStats stats;
+    this->Kernel.Select(in, this->State.data(), this->Reason.data(), this->Mask.data(), stats);
+    return stats;
+  }
+  /// Triangles GeneratePatches draws for the current cut (every triangle it may draw: no
+  /// back-face culling).
+  int64_t PatchTriangles()
+  {
+    std::string why;
+    EXPECT_TRUE(
+      plod::GeneratePatches(this->View, this->State.data(), this->Mask.data(), this->Patches, &why))
+      << why;
+    return static_cast<int64_t>(this->Patches.Triangles.size() / 3);
+  }
+  /// 1 for the refined nodes of the current cut: strictly above it, or opened leaves.
+  std::vector<uint8_t> Refined() const
+  {
+    std::vector<uint8_t> above(this->View.NumberOfNodes, 0), refined(this->View.NumberOfNodes, 0);
+    for (int64_t n = 0; n < this->View.NumberOfNodes; ++n)
+    {
+      const int32_t p = this->View.Parent[n];
+      above[n] = this->State[n] == plod::NotInCut && (p < 0 || above[p]);
+      refined[n] = above[n] || this->State[n] == plod::CutOpen;
+    }
+    return refined;
+  }
+  /// The triangles the refined nodes own, counted here from the octree's arrays.
+  int64_t Owned(const std::vector<uint8_t>& refined) const
+  {
+    int64_t sum = 0;
+    for (int64_t n = 0; n < this->View.NumberOfNodes; ++n)
+      if (refined[n])
+        sum += this->View.TriangleEnd(n) - this->View.FirstTriangle[n];
+    return sum;
+  }
+};
+
+/// The modes the budget is tested in: every error model, motion, foveation, velocity.
+const std::vector<std::pair<const char*, std::function<void(plod::SelectionInput&)>>>& BudgetModes()
+{
+  static const std::vector<std::pair<const char*, std::function<void(plod::SelectionInput&)>>>
+    modes = {
+      { "SRCC", [](plod::SelectionInput&) {} },
+      { "SRCC+TMM",
+        [](plod::SelectionInput& in) {
+          in.Motion = plod::MotionModel::MicroMotion;
+          in.MotionA[0][1] = 0.01; // a slow turn about z and a shift
+          in.MotionA[1][0] = -0.01;
+          in.MotionB[0] = 0.004;
+        } },
+      { "SRCC+foveation",
+        [](plod::SelectionInput& in) {
+          in.Foveation = plod::FoveationMode::Screen;
+          in.FoveationRate = 3;
+          in.GazeDirection[0] = -in.Eye[0];
+          in.GazeDirection[1] = -in.Eye[1];
+          in.GazeDirection[2] = -in.Eye[2];
+          vtkMath::Normalize(in.GazeDirection);
+        } },
+      { "SCVC", [](plod::SelectionInput& in) { in.Error = plod::ErrorModel::SCVC; } },
+      { "PSEC", [](plod::SelectionInput& in) { in.Error = plod::ErrorModel::PSEC; } },
+      { "Distance",
+        [](plod::SelectionInput& in) {
+          in.Error = plod::ErrorModel::Distance;
+          in.DistanceLevel = 4;
+        } },
+      { "Cheng",
+        [](plod::SelectionInput& in) {
+          in.Error = plod::ErrorModel::Cheng;
+          in.Foveation = plod::FoveationMode::Screen;
+          in.FoveationRate = 2;
+          in.GazeDirection[0] = -in.Eye[0];
+          in.GazeDirection[1] = -in.Eye[1];
+          in.GazeDirection[2] = -in.Eye[2];
+          vtkMath::Normalize(in.GazeDirection);
+        } },
+      { "IPV",
+        [](plod::SelectionInput& in) {
+          in.Motion = plod::MotionModel::InverseVelocity;
+          in.VelocityFactor = 2;
+        } },
+      { "SRCC x IPV",
+        [](plod::SelectionInput& in) {
+          in.Motion = plod::MotionModel::InverseVelocity;
+          in.Velocity = plod::VelocityCriterion::ScalesErrorModel;
+          in.VelocityFactor = 1.5;
+        } },
+    };
+  return modes;
+}
+
+/// Generated models: a noisy closed blob, a thin ring (cells that are not topologically safe),
+/// an open soup (rims, back faces drawn).
+std::vector<std::pair<const char*, vtkSmartPointer<vtkPolyData>>> BudgetModels()
+{
+  return { { "blob", plodtest::MakeBlob(5, 60, 0.3) },
+    { "ring", plodtest::MakeRing(1.0, 0.04, 90, 10) },
+    { "soup", plodtest::MakeSoup(7, 500, 0.12) } };
+}
+} // namespace
+
+TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut)
+{
+  // Over models, views and modes, budgets 1, 10, ..., 10^5, random ones below the tolerance
+  // cut's count N and N - 1, N, N + 1:
+  // - the count is exact (the triangles the refined nodes own, recounted here), at most the
+  //   budget, and GeneratePatches draws at most that many;
+  // - a budget of at least N gives the tolerance cut node for node (states, reasons, cull
+  //   masks), not binding; a smaller one is binding, refines only cells the tolerances refine,
+  //   and stops at a refinement that would not have fitted (BudgetTriangles + its triangles >
+  //   budget; with exactly that budget it is made and the count reaches it);
+  // - a larger budget refines a superset of what a smaller one refines, and the refused
+  //   priority (the largest left in the cut) never rises.
+  std::mt19937 rng(14);
+  const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { 4.5, -2, 1.5 },
+    { -1.2, 0.3, 1.9 } };
+  int binding = 0, checked = 0;
+  for (auto& model : BudgetModels())
+  {
+    BudgetScene scene(model.second, model.first == std::string("soup") ? 6 : 7);
+    const double* o = scene.View.Origin;
+    const double focus[3] = { o[0] + 0.5 * scene.View.RootEdge, o[1] + 0.5 * scene.View.RootEdge,
+      o[2] + 0.5 * scene.View.RootEdge };
+    for (const auto& eyeArray : eyes)
+    {
+      double eye[3] = { focus[0] + eyeArray[0], focus[1] + eyeArray[1], focus[2] + eyeArray[2] };
+      for (const auto& mode : BudgetModes())
+      {
+        const std::string what =
+          std::string(model.first) + " " + mode.first + " eye " + std::to_string(eyeArray[0]);
+        plod::SelectionInput in = scene.Look(eye, focus);
+        mode.second(in);
+        const plod::SelectionStats tolerance = scene.Select(in);
+        const auto state0 = scene.State, reason0 = scene.Reason, mask0 = scene.Mask;
+        const auto refined0 = scene.Refined();
+        const int64_t N = tolerance.BudgetTriangles;
+        ASSERT_EQ(scene.Owned(refined0), N) << what;
+        ASSERT_FALSE(tolerance.BudgetBinding) << what;
+        std::vector<int64_t> budgets = { 1, 10, 100, 1000, 10000, 100000, N - 1, N, N + 1 };
+        for (int i = 0; i < 4; ++i)
+          budgets.push_back(
+            std::uniform_int_distribution<int64_t>(1, std::max<int64_t>(1, N))(rng));
+        std::sort(budgets.begin(), budgets.end());
+        budgets.erase(
+          std::remove_if(budgets.begin(), budgets.end(), [](int64_t b) { return b < 1; }),
+          budgets.end());
+        std::vector<uint8_t> previousRefined;
+        double previousRefused = std::numeric_limits<double>::infinity();
+        for (const int64_t budget : budgets)
+        {
+          in.TriangleBudget = budget;
+          const plod::SelectionStats stats = scene.Select(in);
+          ASSERT_TRUE(plod::ValidateCut(scene.View, scene.State.data())) << what << " " << budget;
+          const auto refined = scene.Refined();
+          ++checked;
+          EXPECT_EQ(scene.Owned(refined), stats.BudgetTriangles) << what << " " << budget;
+          EXPECT_LE(stats.BudgetTriangles, budget) << what;
+          EXPECT_LE(scene.PatchTriangles(), budget) << what;
+          if (budget >= N)
+          {
+            EXPECT_FALSE(stats.BudgetBinding) << what << " " << budget;
+            EXPECT_EQ(stats.BudgetTriangles, N) << what;
+            EXPECT_TRUE(scene.State == state0 && scene.Reason == reason0 && scene.Mask == mask0)
+              << what << ": budget " << budget << " >= " << N << " but not the tolerance cut";
+            EXPECT_EQ(stats.Visited, tolerance.Visited) << what;
+            EXPECT_EQ(stats.BudgetRefusedPriority, 0) << what;
+          }
+          else
+          {
+            ++binding;
+            EXPECT_TRUE(stats.BudgetBinding) << what << " " << budget;
+            EXPECT_GT(stats.BudgetTriangles + stats.BudgetRefusedTriangles, budget) << what;
+            EXPECT_GT(stats.BudgetRefusedPriority, 0) << what;
+            for (int64_t n = 0; n < scene.View.NumberOfNodes; ++n)
+            {
+              ASSERT_FALSE(refined[n] && !refined0[n])
+                << what << ": node " << n << " refined beyond the tolerances";
+            }
+          }
+          if (!previousRefined.empty())
+          {
+            for (int64_t n = 0; n < scene.View.NumberOfNodes; ++n)
+            {
+              ASSERT_FALSE(previousRefined[n] && !refined[n])
+                << what << ": budget " << budget << " does not refine node " << n
+                << ", which a smaller budget refines";
+            }
+            EXPECT_LE(stats.BudgetRefusedPriority, previousRefused) << what << " " << budget;
+          }
+          previousRefined = refined;
+          previousRefused = stats.BudgetRefusedPriority;
+          if (stats.BudgetBinding)
+          {
+            // the refused refinement is the next one: with room for it exactly, it is made and
+            // the count reaches the budget
+            const int64_t next = stats.BudgetTriangles + stats.BudgetRefusedTriangles;
+            in.TriangleBudget = next;
+            const plod::SelectionStats more = scene.Select(in);
+            EXPECT_EQ(more.BudgetTriangles, next) << what << " " << budget;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(binding, 100);
+  EXPECT_GT(checked, 500);
+}
+
+TEST(PerceptualLODSelector, BudgetFloorsWithTheEyeInsideAndAMinimumLevel)
+{
+  // With a budget of 1, the cells holding the eye are still refined down to the leaves (or
+  // culled), and no cell coarser than the minimum level is left in the cut unless culled; the
+  // floors' triangles exceed the budget, reported as binding.
+  BudgetScene scene(plodtest::MakeBlob(2, 60, 0.3), 6);
+  const double* o = scene.View.Origin;
+  const double h = scene.View.RootEdge;
+  const double eye[3] = { o[0] + 0.5 * h, o[1] + 0.5 * h, o[2] + 0.5 * h }; // inside the blob
+  const double focus[3] = { eye[0] + 1, eye[1], eye[2] };
+  plod::SelectionInput in = scene.Look(eye, focus, 60);
+  in.TriangleBudget = 1;
+  auto stats = scene.Select(in);
+  EXPECT_TRUE(stats.BudgetBinding);
+  int holding = 0;
+  for (int64_t n = 0; n < scene.View.NumberOfNodes; ++n)
+  {
+    int c[3];
+    scene.View.CellCoordinates(n, c);
+    const double e = scene.View.CellEdge(scene.View.Level[n]);
+    bool inside = true;
+    for (int a = 0; a < 3; ++a)
+      inside = inside && in.Eye[a] >= c[a] * e && in.Eye[a] <= (c[a] + 1) * e;
+    if (inside && scene.State[n] != plod::NotInCut)
+    {
+      ++holding;
+      EXPECT_TRUE(scene.State[n] == plod::CutOpen || scene.Reason[n] == plod::Culled)
+        << "node " << n << " holds the eye, reason " << int(scene.Reason[n]);
+    }
+  }
+  EXPECT_GT(holding, 0);
+  // the minimum level
+  const double far[3] = { eye[0], eye[1], eye[2] + 4 };
+  in = scene.Look(far, eye);
+  in.TriangleBudget = 1;
+  in.MinimumLevel = 3;
+  stats = scene.Select(in);
+  EXPECT_TRUE(stats.BudgetBinding);
+  EXPECT_GT(stats.BudgetTriangles, 1);
+  int limited = 0;
+  for (int64_t n = 0; n < scene.View.NumberOfNodes; ++n)
+  {
+    if (scene.State[n] == plod::NotInCut)
+      continue;
+    EXPECT_TRUE(scene.View.Level[n] >= 3 || scene.Reason[n] == plod::Culled) << n;
+    limited += scene.Reason[n] == plod::BudgetLimited;
+  }
+  EXPECT_GT(limited, 0);
+}
+
+TEST(PerceptualLODSelector, TriangleBudgetThroughTheFilter)
+{
+  Pipeline p(plodtest::MakeBlob(6, 80, 0.3), 7);
+  p.Selector->AddLight(false, 0.3, 0.6, 1.0, 0.8, 0.5);
+  const double eye[3] = { 0.5, 0.8, 3.0 }, focus[3] = { 0, 0, 0 };
+  p.Look(eye, focus);
+  EXPECT_EQ(p.Selector->GetTriangleBudget(), 0);
+  p.Selector->SetTriangleBudget(-7); // negative: off (clamped to 0)
+  EXPECT_EQ(p.Selector->GetTriangleBudget(), 0);
+  p.Patches->Update();
+  const vtkIdType N = p.Selector->GetNumberOfBudgetTriangles();
+  EXPECT_FALSE(p.Selector->GetBudgetWasBinding());
+  EXPECT_GT(N, 1000);
+  EXPECT_LE(p.Patches->GetNumberOfTriangles(), N);
+  const auto state0 = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+  // the budget is forwarded: the filter re-executes, its figures follow, the patches fit
+  const vtkMTimeType before = p.Selector->GetMTime();
+  for (const vtkIdType budget : { N / 10, N / 3, N - 1 })
+  {
+    p.Selector->SetTriangleBudget(budget);
+    p.Patches->Update();
+    EXPECT_TRUE(p.Selector->GetBudgetWasBinding()) << budget;
+    EXPECT_LE(p.Selector->GetNumberOfBudgetTriangles(), budget);
+    EXPECT_GT(p.Selector->GetNumberOfBudgetTriangles(), budget / 2); // no small step ends it
+    EXPECT_LE(p.Patches->GetNumberOfTriangles(), budget);
+    EXPECT_TRUE(p.Cut()->HasValidCut());
+    const auto reason = p.Array(vtkPerceptualLODSelector::CutReasonArrayName());
+    EXPECT_NE(std::count(reason.begin(), reason.end(), plod::BudgetLimited), 0);
+  }
+  EXPECT_GT(p.Selector->GetMTime(), before);
+  // not binding: the tolerance cut
+  p.Selector->SetTriangleBudget(N);
+  EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), state0);
+  EXPECT_FALSE(p.Selector->GetBudgetWasBinding());
+  EXPECT_EQ(p.Selector->GetNumberOfBudgetTriangles(), N);
+  // a budget smaller than the root's own triangles: the root alone, and the filter says why
+  p.Selector->SetTriangleBudget(1);
+  p.Patches->Update();
+  EXPECT_EQ(p.Patches->GetNumberOfTriangles(), 0);
+  EXPECT_NE(std::string(p.Selector->GetEmptyCutReason()).find("triangle budget"), std::string::npos)
+    << p.Selector->GetEmptyCutReason();
+  std::ostringstream text;
+  p.Selector->PrintSelf(text, vtkIndent());
+  EXPECT_NE(text.str().find("TriangleBudget: 1"), std::string::npos);
+  EXPECT_NE(text.str().find("budget was binding"), std::string::npos);
 }

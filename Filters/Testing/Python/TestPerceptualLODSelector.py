@@ -68,6 +68,24 @@ class TestSelector(unittest.TestCase):
             counts.append(self.patches.GetNumberOfTriangles())
         self.assertEqual(counts, sorted(counts, reverse=True))  # farther, fewer triangles
 
+    def test_triangle_budget(self):
+        self.selector.AddLight(False, 0.3, 0.4, 1.0, 0.9, 0.4)
+        self.look(3)
+        self.patches.Update()
+        full = self.selector.GetNumberOfBudgetTriangles()
+        self.assertFalse(self.selector.GetBudgetWasBinding())
+        self.assertGreater(full, 100)
+        self.selector.SetTriangleBudget(-1)  # off
+        self.assertEqual(self.selector.GetTriangleBudget(), 0)
+        budget = full // 4
+        self.selector.SetTriangleBudget(budget)
+        self.patches.Update()
+        self.assertTrue(self.selector.GetBudgetWasBinding())
+        self.assertLessEqual(self.selector.GetNumberOfBudgetTriangles(), budget)
+        self.assertLessEqual(self.patches.GetNumberOfTriangles(), budget)
+        reason = vtk_to_numpy(self.selector.GetOutput().GetNodeData().GetArray('CutReason'))
+        self.assertGreater(int((reason == 8).sum()), 0)  # left unrefined by the budget
+
 
 if __name__ == '__main__':
     unittest.main()
