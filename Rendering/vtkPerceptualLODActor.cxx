@@ -17,6 +17,7 @@
 #include "vtkTrivialProducer.h"
 
 #include <algorithm>
+#include <cmath>
 
 vtkStandardNewMacro(vtkPerceptualLODActor);
 
@@ -218,7 +219,31 @@ void vtkPerceptualLODActor::Feed(vtkViewport* viewport)
     binding->EnabledOff(); // no observer: the actor pushes while it renders
     binding->SetSelector(this->Selector);
   }
+  binding->SetTargetFrameTime(this->TargetFrameTime);
   binding->UpdateFrom(renderer, this);
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::SetTargetFrameTime(double seconds)
+{
+  if (!std::isfinite(seconds) || seconds < 0)
+  {
+    vtkErrorMacro(
+      "The target frame time must be a finite number of seconds, 0 for off; got " << seconds);
+    return;
+  }
+  if (seconds != this->TargetFrameTime)
+  {
+    this->TargetFrameTime = seconds;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkPerceptualLODRenderBinding* vtkPerceptualLODActor::GetBinding(vtkRenderer* renderer)
+{
+  auto it = this->Bindings.find(renderer);
+  return it == this->Bindings.end() ? nullptr : it->second;
 }
 
 //------------------------------------------------------------------------------
@@ -258,6 +283,7 @@ void vtkPerceptualLODActor::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "InputIsOctree: " << this->InputIsOctree << "\n";
   os << indent << "Renderers fed: " << this->Bindings.size() << "\n";
+  os << indent << "TargetFrameTime: " << this->TargetFrameTime << " s\n";
   os << indent << "Selector:\n";
   this->Selector->PrintSelf(os, indent.GetNextIndent());
 }

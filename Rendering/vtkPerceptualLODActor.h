@@ -34,6 +34,8 @@
  *   surface of the last render, and a cell id is an index into the mapper's current input
  *   (GetMapper()->GetInput()), not into the original mesh. Pick with the same renderer's
  *   view as the last render for a consistent answer.
+ * - **Frame-time target**: SetTargetFrameTime(seconds) holds frames near that time by a
+ *   triangle budget (vtkPerceptualLODRenderBinding).
  * - SetMapper() is ignored with a warning: the actor's mapper is its own.
  *
  * @sa vtkPerceptualLODRenderBinding vtkPerceptualLODSelector vtkMultiscaleOctreeReader
@@ -53,6 +55,7 @@ class vtkDataObject;
 class vtkMultiscaleOctreeBuilder;
 class vtkMultiscalePatchGenerator;
 class vtkPerceptualLODRenderBinding;
+class vtkRenderer;
 class vtkPerceptualLODSelector;
 class vtkPolyDataMapper;
 class vtkTrivialProducer;
@@ -79,6 +82,19 @@ public:
   vtkPerceptualLODSelector* GetSelector();
   vtkMultiscalePatchGenerator* GetPatchGenerator();
   ///@}
+
+  ///@{
+  /**
+   * Frame-time target in seconds (default 0: off): each renderer's binding measures what its
+   * frames cost and steers the selector's triangle budget to hold the target
+   * (vtkPerceptualLODRenderBinding::SetTargetFrameTime). The tolerances stay a floor.
+   */
+  void SetTargetFrameTime(double seconds);
+  vtkGetMacro(TargetFrameTime, double);
+  ///@}
+
+  /// The binding that feeds the selector for `renderer` (null before it first rendered there).
+  vtkPerceptualLODRenderBinding* GetBinding(vtkRenderer* renderer);
 
   /// True when the input is an octree (the builder is not used).
   bool GetInputIsOctree();
@@ -118,6 +134,7 @@ protected:
   vtkMultiscalePatchGenerator* Patches = nullptr;
   vtkPolyDataMapper* LODMapper = nullptr;
   bool InputIsOctree = false;
+  double TargetFrameTime = 0;
   double ModelBounds[6];
   vtkMTimeType ModelBoundsTime = 0;
   /// One binding per renderer (by address): its motion history. Never holds the renderer.

@@ -11,14 +11,24 @@
 #include "vtkPerceptualLODSelector.h"
 #include "vtkProp3D.h"
 #include "vtkProperty.h"
+#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkTimerLog.h"
+
+#include "plodBudgetController.h"
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 vtkStandardNewMacro(vtkPerceptualLODRenderBinding);
+
+class vtkPerceptualLODRenderBinding::vtkInternals
+{
+public:
+  plod::BudgetController Controller;
+  unsigned long DeleteTag = 0; // the window's DeleteEvent observer
+};
 
 namespace
 {
@@ -56,6 +66,12 @@ vtkPerceptualLODRenderBinding::vtkPerceptualLODRenderBinding()
   this->Observer->SetCallback(&vtkPerceptualLODRenderBinding::OnStart);
   this->Observer->SetClientData(this); // a raw pointer: no reference cycle
   std::fill(this->PreviousObjectToView, this->PreviousObjectToView + 16, 0.0);
+  this->WindowObserver = vtkCallbackCommand::New();
+  this->WindowObserver->SetCallback(&vtkPerceptualLODRenderBinding::OnWindowEnd);
+  this->WindowObserver->SetClientData(this);
+  this->Internals = new vtkInternals;
+  this->MinimumTriangleBudget = 1000;
+  this->MaximumTriangleBudget = VTK_ID_MAX;
 }
 
 //------------------------------------------------------------------------------
@@ -63,6 +79,13 @@ vtkPerceptualLODRenderBinding::~vtkPerceptualLODRenderBinding()
 {
   this->RemoveObserver();
   this->Observer->Delete();
+  if (this->Window)
+  {
+    this->Window->RemoveObserver(this->WindowTag);
+    this->Window->RemoveObserver(this->Internals->DeleteTag);
+  }
+  this->WindowObserver->Delete();
+  delete this->Internals;
   if (this->Renderer)
     this->Renderer->UnRegister(this);
   if (this->Selector)
@@ -160,6 +183,99 @@ void vtkPerceptualLODRenderBinding::SetEnabled(bool enabled)
 void vtkPerceptualLODRenderBinding::OnStart(vtkObject*, unsigned long, void* client, void*)
 {
   static_cast<vtkPerceptualLODRenderBinding*>(client)->Update();
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::OnWindowEnd(
+  vtkObject* caller, unsigned long event, void* client, void*)
+{
+  auto* self = static_cast<vtkPerceptualLODRenderBinding*>(client);
+  if (event == vtkCommand::DeleteEvent)
+  {
+    // the window goes first: forget it (its observers go with it)
+    if (caller == self->Window)
+    {
+      self->Window = nullptr;
+      self->WindowTag = 0;
+      self->Internals->DeleteTag = 0;
+    }
+    return;
+  }
+  if (self->FrameStarted)
+  {
+    self->LastFrameCost = vtkTimerLog::GetUniversalTime() - self->FrameStart;
+    self->FrameCostPending = true;
+    self->FrameStarted = false;
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::WatchWindow(vtkRenderWindow* window)
+{
+  if (window == this->Window)
+  {
+    return;
+  }
+  if (this->Window)
+  {
+    this->Window->RemoveObserver(this->WindowTag);
+    this->Window->RemoveObserver(this->Internals->DeleteTag);
+  }
+  this->Window = window;
+  this->WindowTag = 0;
+  this->Internals->DeleteTag = 0;
+  if (window)
+  {
+    this->WindowTag = window->AddObserver(vtkCommand::EndEvent, this->WindowObserver);
+    this->Internals->DeleteTag = window->AddObserver(vtkCommand::DeleteEvent, this->WindowObserver);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::SetTargetFrameTime(double seconds)
+{
+  if (!std::isfinite(seconds) || seconds < 0)
+  {
+    vtkErrorMacro("The target frame time must be a finite number of seconds, 0 for off; got "
+      << seconds << ": the target stays " << (this->TargetFrameTime > 0 ? "as it was" : "off"));
+    return;
+  }
+  if (seconds != this->TargetFrameTime)
+  {
+    this->TargetFrameTime = seconds;
+    this->Internals->Controller.Reset();
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::SteerBudget()
+{
+  vtkPerceptualLODSelector* sel = this->Selector;
+  if (!(this->TargetFrameTime > 0))
+  {
+    if (this->TargetBudget > 0)
+    {
+      sel->SetTriangleBudget(0); // the target was turned off: no budget
+      this->TargetBudget = 0;
+    }
+    return;
+  }
+  if (!this->FrameCostPending && this->TargetBudget > 0)
+  {
+    return; // no new measurement (the first frame, or a frame that did not finish)
+  }
+  plod::FrameTimeTarget target;
+  target.Target = this->TargetFrameTime;
+  target.MinimumBudget = this->MinimumTriangleBudget;
+  target.MaximumBudget = std::max(this->MinimumTriangleBudget, this->MaximumTriangleBudget);
+  const double cost = this->FrameCostPending ? this->LastFrameCost : 0.0;
+  this->FrameCostPending = false;
+  const vtkIdType budget = this->Internals->Controller.Update(
+    target, cost, sel->GetNumberOfBudgetTriangles(), sel->GetBudgetWasBinding());
+  this->TargetBudget = budget;
+  sel->SetTriangleBudget(
+    budget); // Modified() only on a change: a settled budget re-executes nothing
 }
 
 //------------------------------------------------------------------------------
@@ -314,6 +430,15 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
   std::copy(objectToView, objectToView + 16, this->PreviousObjectToView);
   this->PreviousStart = start;
   this->HasPrevious = true;
+
+  // ---- frame-time target ---------------------------------------------------------------------
+  this->SteerBudget();
+  if (this->TargetFrameTime > 0)
+  {
+    this->WatchWindow(ren->GetRenderWindow());
+    this->FrameStart = start;
+    this->FrameStarted = true;
+  }
   ++this->NumberOfUpdates;
   this->LastUpdateTime = vtkTimerLog::GetUniversalTime() - start;
 }
@@ -329,4 +454,9 @@ void vtkPerceptualLODRenderBinding::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfUpdates: " << this->NumberOfUpdates << "\n";
   os << indent << "MeasuredFrameTime: " << this->MeasuredFrameTime << " s\n";
   os << indent << "LastUpdateTime: " << this->LastUpdateTime << " s\n";
+  os << indent << "TargetFrameTime: " << this->TargetFrameTime << " s\n";
+  os << indent << "MinimumTriangleBudget: " << this->MinimumTriangleBudget << "\n";
+  os << indent << "MaximumTriangleBudget: " << this->MaximumTriangleBudget << "\n";
+  os << indent << "LastFrameCost: " << this->LastFrameCost << " s\n";
+  os << indent << "TargetBudget: " << this->TargetBudget << "\n";
 }

@@ -24,6 +24,18 @@
  *   changes nothing and nothing re-executes. Motion is pushed only when the selector's motion
  *   model is not None.
  *
+ * - the **frame-time target** (off by default): with SetTargetFrameTime(seconds), the binding
+ *   measures what each frame costs, from this push to the end of the render window's frame
+ *   (selection, patches, rendering and the buffer swap, where a software renderer finishes
+ *   drawing), and steers the selector's triangle budget (vtkPerceptualLODSelector::
+ *   SetTriangleBudget) so that frames take about that long: plod::BudgetController's law
+ *   (plodBudgetController.h: median of three frames, a 5 % dead band, a damped step of at most
+ *   1.25x per frame, scaled from what was drawn when the tolerances drew less). The
+ *   tolerances stay a floor, so a view that needs fewer triangles than the target allows is
+ *   drawn as without a budget, and motion models keep lowering detail during motion. Turning
+ *   the target off sets the budget back to 0 (off). A budget you set yourself is left alone
+ *   while the target is off.
+ *
  * @warning The LOD output holds only what the current view draws, so its bounds change with the
  * view. Reset cameras and clipping ranges with the model's bounds
  * (vtkRenderer::ResetCamera(bounds), ResetCameraClippingRange(bounds)), not from the LOD
@@ -44,6 +56,7 @@
 class vtkCallbackCommand;
 class vtkPerceptualLODSelector;
 class vtkProp3D;
+class vtkRenderWindow;
 class vtkRenderer;
 
 class PERCEPTUALLODRENDERING_EXPORT vtkPerceptualLODRenderBinding : public vtkObject
@@ -80,6 +93,25 @@ public:
   void EnabledOff() { this->SetEnabled(false); }
   ///@}
 
+  ///@{
+  /**
+   * Frame-time target in seconds (default 0: off). Negative and non-finite values are errors
+   * (the target stays off). See the class documentation.
+   */
+  void SetTargetFrameTime(double seconds);
+  vtkGetMacro(TargetFrameTime, double);
+  /// Limits of the budget the target sets (defaults 1000 and VTK_ID_MAX).
+  vtkSetClampMacro(MinimumTriangleBudget, vtkIdType, 1, VTK_ID_MAX);
+  vtkGetMacro(MinimumTriangleBudget, vtkIdType);
+  vtkSetClampMacro(MaximumTriangleBudget, vtkIdType, 1, VTK_ID_MAX);
+  vtkGetMacro(MaximumTriangleBudget, vtkIdType);
+  /// The cost of the last complete frame (s; 0 before one was measured): from the push to the
+  /// end of the render window's frame.
+  vtkGetMacro(LastFrameCost, double);
+  /// The budget the target set at the last push (0: none).
+  vtkGetMacro(TargetBudget, vtkIdType);
+  ///@}
+
   /// Pushes the renderer's current state to the selector now (what StartEvent does).
   void Update();
 
@@ -107,6 +139,11 @@ protected:
   void AddObserver();
   void RemoveObserver();
   static void OnStart(vtkObject* caller, unsigned long event, void* client, void* data);
+  static void OnWindowEnd(vtkObject* caller, unsigned long event, void* client, void* data);
+  /// Observes `window`'s EndEvent (once per window), to measure the frame's cost.
+  void WatchWindow(vtkRenderWindow* window);
+  /// The frame-time target's step: the next budget from the last frame's cost.
+  void SteerBudget();
 
   vtkRenderer* Renderer;
   vtkPerceptualLODSelector* Selector;
@@ -121,6 +158,20 @@ protected:
   vtkIdType NumberOfUpdates;
   double MeasuredFrameTime;
   double LastUpdateTime;
+
+  double TargetFrameTime = 0;
+  vtkIdType MinimumTriangleBudget; // 1000
+  vtkIdType MaximumTriangleBudget; // VTK_ID_MAX
+  double FrameStart = 0;
+  double LastFrameCost = 0;
+  bool FrameCostPending = false;
+  bool FrameStarted = false;
+  vtkIdType TargetBudget = 0;
+  vtkCallbackCommand* WindowObserver = nullptr;
+  vtkRenderWindow* Window = nullptr; // observed, not held (see WatchWindow)
+  unsigned long WindowTag = 0;
+  class vtkInternals;
+  vtkInternals* Internals = nullptr;
 
 private:
   vtkPerceptualLODRenderBinding(const vtkPerceptualLODRenderBinding&) = delete;
