@@ -237,6 +237,17 @@ def one_rank(out):
           "triangles fall as the camera moves away: %s" % series)
     check(lod.GetNumberOfBuilds() == 1, "moving the camera builds nothing again")
 
+    # the triangle budget, as a representation property
+    dolly_to(view, start)
+    display.TriangleBudget = 5000
+    Render(view)
+    check(0 < lod.GetNumberOfTriangles() <= 5000, "TriangleBudget 5000 holds (%d triangles)"
+          % lod.GetNumberOfTriangles())
+    display.TriangleBudget = 0
+    Render(view)
+    check(lod.GetNumberOfTriangles() == series[0], "no budget: the tolerance cut again (%d)"
+          % lod.GetNumberOfTriangles())
+
     # against ParaView's Surface representation of the full contour, same view
     camera.SetPosition(*reference_camera[0])
     camera.SetFocalPoint(*reference_camera[1])

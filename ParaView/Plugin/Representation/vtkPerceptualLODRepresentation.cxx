@@ -334,6 +334,14 @@ void vtkPerceptualLODRepresentation::SetTopologyTolerance(double pixels)
 {
   this->Actor->GetSelector()->SetTopologyTolerance(pixels);
 }
+void vtkPerceptualLODRepresentation::SetTriangleBudget(vtkIdType triangles)
+{
+  this->Actor->GetSelector()->SetTriangleBudget(triangles);
+}
+void vtkPerceptualLODRepresentation::SetTargetFrameTime(double seconds)
+{
+  this->Actor->SetTargetFrameTime(seconds);
+}
 void vtkPerceptualLODRepresentation::SetFinestLevel(int level)
 {
   if (level != this->FinestLevel)

@@ -90,6 +90,11 @@ public:
   double GetContourTolerance();
   void SetBrightnessTolerance(double tolerance);
   void SetTopologyTolerance(double pixels);
+  /// At most this many triangles per rank (0, the default: no budget; the tolerances stay a
+  /// floor).
+  void SetTriangleBudget(vtkIdType triangles);
+  /// Hold frames near this many seconds by steering the budget (0, the default: off).
+  void SetTargetFrameTime(double seconds);
   ///@}
 
   ///@{
