@@ -18,6 +18,32 @@
 namespace plodtest
 {
 
+/// The view of a hand-made octree `t` of `nodes` nodes (one level below the root), whose
+/// members are named as in Tiny and Fork.
+template <class T>
+plod::OctreeView ViewOf(T& t, int nodes)
+{
+  plod::OctreeView v;
+  v.NumberOfNodes = nodes;
+  v.FinestLevel = 1;
+  v.RootEdge = 1;
+  v.Level = t.Level;
+  v.Parent = t.Parent;
+  v.FirstChild = t.FirstChild;
+  v.ChildMask = t.Mask;
+  v.Vertex = t.Vertex;
+  v.ConeAxis = t.Axis;
+  v.ConeAngle = t.Angle;
+  v.ShapeError = t.Shape;
+  v.Diffuse = t.Diffuse;
+  v.Specular = t.Specular;
+  v.Flags = t.Flags;
+  v.Thickness = t.Thickness;
+  v.FirstPoint = t.FirstPoint;
+  v.FirstTriangle = t.FirstTriangle;
+  return v;
+}
+
 struct Tiny
 {
   uint8_t Level[2] = { 0, 1 };
@@ -35,28 +61,7 @@ struct Tiny
   int32_t FirstPoint[2] = { 0, 0 };
   int64_t FirstTriangle[2] = { 0, 0 };
 
-  plod::OctreeView View()
-  {
-    plod::OctreeView v;
-    v.NumberOfNodes = 2;
-    v.FinestLevel = 1;
-    v.RootEdge = 1;
-    v.Level = Level;
-    v.Parent = Parent;
-    v.FirstChild = FirstChild;
-    v.ChildMask = Mask;
-    v.Vertex = Vertex;
-    v.ConeAxis = Axis;
-    v.ConeAngle = Angle;
-    v.ShapeError = Shape;
-    v.Diffuse = Diffuse;
-    v.Specular = Specular;
-    v.Flags = Flags;
-    v.Thickness = Thickness;
-    v.FirstPoint = FirstPoint;
-    v.FirstTriangle = FirstTriangle;
-    return v;
-  }
+  plod::OctreeView View() { return ViewOf(*this, 2); }
 
   /// Reason of the root after one selection (ReasonNone when it was refined); the child's reason
   /// in `childReason` when given.
@@ -103,24 +108,7 @@ struct Fork
     this->FirstTriangle[0] = 0;
     this->FirstTriangle[1] = this->Owned[0];
     this->FirstTriangle[2] = this->Owned[0] + this->Owned[1];
-    plod::OctreeView v;
-    v.NumberOfNodes = 3;
-    v.FinestLevel = 1;
-    v.RootEdge = 1;
-    v.Level = Level;
-    v.Parent = Parent;
-    v.FirstChild = FirstChild;
-    v.ChildMask = Mask;
-    v.Vertex = Vertex;
-    v.ConeAxis = Axis;
-    v.ConeAngle = Angle;
-    v.ShapeError = Shape;
-    v.Diffuse = Diffuse;
-    v.Specular = Specular;
-    v.Flags = Flags;
-    v.Thickness = Thickness;
-    v.FirstPoint = FirstPoint;
-    v.FirstTriangle = FirstTriangle;
+    plod::OctreeView v = ViewOf(*this, 3);
     v.NumberOfTriangles = this->Owned[0] + this->Owned[1] + this->Owned[2];
     return v;
   }

@@ -1100,6 +1100,14 @@ struct BudgetScene
   }
 };
 
+/// The gaze from the eye towards the origin (the models' centre).
+void GazeAtTheOrigin(plod::SelectionInput& in)
+{
+  for (int a = 0; a < 3; ++a)
+    in.GazeDirection[a] = -in.Eye[a];
+  vtkMath::Normalize(in.GazeDirection);
+}
+
 /// The modes the budget is tested in: every error model, motion, foveation, velocity.
 const std::vector<std::pair<const char*, std::function<void(plod::SelectionInput&)>>>& BudgetModes()
 {
@@ -1117,10 +1125,7 @@ const std::vector<std::pair<const char*, std::function<void(plod::SelectionInput
         [](plod::SelectionInput& in) {
           in.Foveation = plod::FoveationMode::Screen;
           in.FoveationRate = 3;
-          in.GazeDirection[0] = -in.Eye[0];
-          in.GazeDirection[1] = -in.Eye[1];
-          in.GazeDirection[2] = -in.Eye[2];
-          vtkMath::Normalize(in.GazeDirection);
+          GazeAtTheOrigin(in);
         } },
       { "SCVC", [](plod::SelectionInput& in) { in.Error = plod::ErrorModel::SCVC; } },
       { "PSEC", [](plod::SelectionInput& in) { in.Error = plod::ErrorModel::PSEC; } },
@@ -1134,10 +1139,7 @@ const std::vector<std::pair<const char*, std::function<void(plod::SelectionInput
           in.Error = plod::ErrorModel::Cheng;
           in.Foveation = plod::FoveationMode::Screen;
           in.FoveationRate = 2;
-          in.GazeDirection[0] = -in.Eye[0];
-          in.GazeDirection[1] = -in.Eye[1];
-          in.GazeDirection[2] = -in.Eye[2];
-          vtkMath::Normalize(in.GazeDirection);
+          GazeAtTheOrigin(in);
         } },
       { "IPV",
         [](plod::SelectionInput& in) {
