@@ -86,7 +86,7 @@ TEST(FrameTimeTarget, HeldWithinTenPercentOnAScriptedPath)
   selector->SetTriangleBudget(2000);
   const double coarse = f.MedianFrame(5);
   selector->SetTriangleBudget(0);
-  const double target = coarse + 0.15 * (full - coarse);
+  const double target = coarse + 0.1 * (full - coarse);
   std::printf("full frame %.1f ms, coarsest %.1f ms, target %.1f ms\n", 1e3 * full, 1e3 * coarse,
     1e3 * target);
   ASSERT_GT(full, 3 * target) << "the model must be far above the target on this machine";
@@ -110,13 +110,18 @@ TEST(FrameTimeTarget, HeldWithinTenPercentOnAScriptedPath)
   std::printf("median frame over frames 30-%d: %.1f ms (target %.1f ms)\n", frames, 1e3 * median,
     1e3 * target);
   EXPECT_NEAR(median, target, 0.10 * target);
-  // no popping: the triangles drawn never change by more than the controller's step (measured:
-  // full 159 ms, target 41 ms, median 40.5 ms, 1 reversal)
+  // no popping: the budget never changes by more than the controller's step (1.25) and the
+  // triangles drawn by no more than that step and the fill slack of the budget's stop rule
+  // (the walk stops at the first refinement that does not fit, a little under the budget:
+  // measured, one frame in a clean-clone run dropped by 1.2507)
+  // (measured idle: full 60 ms, target 13.5 ms, median 13.1-13.3 ms, 2-4 reversals)
   int reversals = 0, last = 0;
   for (int i = 31; i < frames; ++i)
   {
-    EXPECT_LE(triangles[i], 1.25 * triangles[i - 1] + 1) << "frame " << i;
-    EXPECT_GE(1.25 * triangles[i] + 1, triangles[i - 1]) << "frame " << i;
+    EXPECT_LE(budgets[i], 1.25 * budgets[i - 1] + 1) << "frame " << i;
+    EXPECT_GE(1.25 * budgets[i] + 1, budgets[i - 1]) << "frame " << i;
+    EXPECT_LE(triangles[i], 1.35 * triangles[i - 1] + 1) << "frame " << i;
+    EXPECT_GE(1.35 * triangles[i] + 1, triangles[i - 1]) << "frame " << i;
     const int dir = budgets[i] > budgets[i - 1] ? 1 : (budgets[i] < budgets[i - 1] ? -1 : 0);
     if (dir)
     {
