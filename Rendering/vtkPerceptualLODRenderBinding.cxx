@@ -274,8 +274,8 @@ void vtkPerceptualLODRenderBinding::SteerBudget()
   const vtkIdType budget = this->Internals->Controller.Update(
     target, cost, sel->GetNumberOfBudgetTriangles(), sel->GetBudgetWasBinding());
   this->TargetBudget = budget;
-  sel->SetTriangleBudget(
-    budget); // Modified() only on a change: a settled budget re-executes nothing
+  // Modified() only on a change: a settled budget re-executes nothing
+  sel->SetTriangleBudget(budget);
 }
 
 //------------------------------------------------------------------------------

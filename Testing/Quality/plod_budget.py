@@ -25,56 +25,53 @@ import plod_metrics as metrics  # noqa: E402
 FLOOR = 1.0 / 16
 
 
-def measure(name, model, writer, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
+def measure(name, model, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
+    """Rows of the three methods at the tolerance mode's counts, both azimuths."""
+    rows = []
     scene = pf.Scene(model)
     for az in (0, 90):
         scene.view(az, pf.DISTANCES['mid'])
         ref = scene.render_actor(scene.ref_actor)
+
+        def row(method, target, triangles, img):
+            rows.append(dict(model=name, azimuth=az, method=method, target=target,
+                             triangles=triangles, psnr=metrics.psnr(pf.lum(ref), pf.lum(img))))
         for scale in scales:
             scene.selector.SetTriangleBudget(0)
             img, tris = scene.render_lod(scale)
-            writer.writerow(dict(model=name, azimuth=az, method='tolerance', target=tris,
-                                 triangles=tris, psnr=metrics.psnr(pf.lum(ref), pf.lum(img))))
+            row('tolerance', tris, tris, img)
             if tris == 0:
                 continue
             scene.selector.SetTriangleBudget(tris)
             img, btris = scene.render_lod(FLOOR)
-            writer.writerow(dict(model=name, azimuth=az, method='budget', target=tris,
-                                 triangles=btris, psnr=metrics.psnr(pf.lum(ref), pf.lum(img))))
+            row('budget', tris, btris, img)
             scene.selector.SetTriangleBudget(0)
             qd, qd_tris = pf.decimated(scene.full, tris)
-            writer.writerow(dict(model=name, azimuth=az, method='QD', target=tris,
-                                 triangles=qd_tris,
-                                 psnr=metrics.psnr(pf.lum(ref), pf.lum(scene.render_data(qd)))))
+            row('QD', tris, qd_tris, scene.render_data(qd))
+    return rows
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument('--out', default='docs/results')
-    ap.add_argument('--data', default=os.environ.get('PLOD_DATA_DIR', os.path.join(
-        os.path.dirname(os.path.abspath(__file__)), '..', '..', '..', 'shared', 'data')))
+    ap.add_argument('--data', default=pf.DEFAULT_DATA)
     ap.add_argument('--models', default='bunny,generated')
     args = ap.parse_args()
     wanted = set(args.models.split(','))
-    path = os.path.join(args.out, 'budget.csv')
     rows = []
+    bunny = os.path.join(args.data, 'bun_zipper.ply')
+    if 'bunny' in wanted:
+        if os.path.exists(bunny):
+            rows += measure('bunny', pf.read_ply(bunny))
+        else:
+            print('bunny skipped: %s not found' % bunny)
+    if 'generated' in wanted:
+        rows += measure('generated', pf.displaced_sphere(400))
+    path = os.path.join(args.out, 'budget.csv')
     with open(path, 'w', newline='') as f:
         writer = csv.DictWriter(f, ['model', 'azimuth', 'method', 'target', 'triangles', 'psnr'])
         writer.writeheader()
-
-        class Both:
-            def writerow(self, row):
-                writer.writerow(row)
-                rows.append(row)
-        both = Both()
-        bunny = os.path.join(args.data, 'bun_zipper.ply')
-        if 'bunny' in wanted:
-            if os.path.exists(bunny):
-                measure('bunny', pf.read_ply(bunny), both)
-            else:
-                print('bunny skipped: %s not found' % bunny)
-        if 'generated' in wanted:
-            measure('generated', pf.displaced_sphere(400), both)
+        writer.writerows(rows)
     print('%-10s %3s %8s | %-22s | %-22s | %-22s' % ('model', 'az', 'target', 'tolerance',
                                                      'budget', 'QD'))
     keys = sorted({(r['model'], r['azimuth'], r['target']) for r in rows})

@@ -605,11 +605,15 @@ def summary(rows, trade_rows, out):
     print('\n'.join(lines))
 
 
+# The Stanford scans: $PLOD_DATA_DIR, else ../shared/data beside the repository.
+DEFAULT_DATA = os.environ.get('PLOD_DATA_DIR', os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), '..', '..', '..', 'shared', 'data'))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument('--out', default='docs/results')
-    ap.add_argument('--data', default=os.environ.get('PLOD_DATA_DIR', os.path.join(
-        os.path.dirname(os.path.abspath(__file__)), '..', '..', '..', 'shared', 'data')))
+    ap.add_argument('--data', default=DEFAULT_DATA)
     ap.add_argument('--quick', action='store_true')
     ap.add_argument('--models', default='')
     ap.add_argument('--no-trade', action='store_true')
