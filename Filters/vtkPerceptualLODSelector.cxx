@@ -106,6 +106,7 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , TopologyTolerance(1.0)
   , MinimumLevel(0)
   , TriangleBudget(0)
+  , BudgetStopRule(BUDGET_STOP_AT_FIRST_MISFIT)
   , ViewAngle(30.0)
   , UseFrustum(false)
   , ParallelProjection(false)
@@ -309,6 +310,7 @@ int vtkPerceptualLODSelector::RequestData(
   in.TopologyTolerance = this->TopologyTolerance;
   in.MinimumLevel = this->MinimumLevel;
   in.TriangleBudget = this->TriangleBudget;
+  in.BudgetStop = static_cast<plod::BudgetStopRule>(this->BudgetStopRule);
   in.UseOctreeMaterial = input->GetHasMaterialArrays();
   in.Diffuse = this->DiffuseReflectance;
   in.Specular = this->SpecularReflectance;
@@ -578,7 +580,9 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BrightnessTolerance: " << this->BrightnessTolerance << "\n";
   os << indent << "MinimumLevel: " << this->MinimumLevel << "\n";
   os << indent << "TriangleBudget: " << this->TriangleBudget
-     << (this->TriangleBudget > 0 ? "" : " (off)") << "\n";
+     << (this->TriangleBudget > 0 ? "" : " (off)") << ", stop rule "
+     << (this->BudgetStopRule == BUDGET_STOP_AT_FIRST_MISFIT ? "StopAtFirstMisfit" : "SkipMisfits")
+     << "\n";
   os << indent << "EyePosition: (" << this->EyePosition[0] << ", " << this->EyePosition[1] << ", "
      << this->EyePosition[2] << ")\n";
   os << indent << "ViewAngle: " << this->ViewAngle << " deg\n";

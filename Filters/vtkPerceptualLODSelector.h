@@ -270,7 +270,8 @@ public:
    * tolerances would refine are refined in order of priority, how far their error exceeds
    * their tolerance (SRCC: the larger of contour error / ContourTolerance and brightness error /
    * BrightnessTolerance, with the motion and foveation factors; the other models: the ratio of
-   * their own test), until the first refinement whose triangles do not fit. The tolerances stay
+   * their own test), while their triangles fit (BudgetStopRule says what happens to a refinement
+   * that does not). The tolerances stay
    * a floor: a cell they accept is never refined, so a budget larger than the tolerance cut's
    * triangles gives the tolerance cut exactly. Cells left unrefined by the budget are drawn at
    * their vertex with CutReason 8 (plod::BudgetLimited). The count is of the triangles the cut's
@@ -288,6 +289,30 @@ public:
   /// Triangles owned by the refined cells of the last cut (with or without a budget): what it
   /// draws at most, and with a budget at most TriangleBudget (unless the floors need more).
   vtkGetMacro(NumberOfBudgetTriangles, vtkIdType);
+  ///@}
+
+  enum BudgetStopRules
+  {
+    BUDGET_STOP_AT_FIRST_MISFIT = 0, ///< the first refinement that does not fit ends the walk
+    BUDGET_SKIP_MISFITS = 1          ///< refinements that do not fit are skipped
+  };
+  ///@{
+  /**
+   * What the triangle budget does with a refinement that does not fit in the room left.
+   * BUDGET_STOP_AT_FIRST_MISFIT (default) ends the walk there, so that a larger budget always
+   * refines a superset of what a smaller one refines, at the price of leaving part of the budget
+   * unused where single refinements bring many triangles (the poles of a UV sphere: 43-76 % of
+   * the budget used, docs/results/budget.md); BUDGET_SKIP_MISFITS leaves it unrefined and goes
+   * on with the next ones, so the budget fills. Both are the tolerance cut when it fits. See
+   * plodSelector.h.
+   */
+  vtkSetClampMacro(BudgetStopRule, int, BUDGET_STOP_AT_FIRST_MISFIT, BUDGET_SKIP_MISFITS);
+  vtkGetMacro(BudgetStopRule, int);
+  void SetBudgetStopRuleToStopAtFirstMisfit()
+  {
+    this->SetBudgetStopRule(BUDGET_STOP_AT_FIRST_MISFIT);
+  }
+  void SetBudgetStopRuleToSkipMisfits() { this->SetBudgetStopRule(BUDGET_SKIP_MISFITS); }
   ///@}
 
   ///@{
@@ -449,6 +474,7 @@ protected:
   double TopologyTolerance;
   int MinimumLevel;
   vtkIdType TriangleBudget;
+  int BudgetStopRule;
   double EyePosition[3];
   double ViewAngle;
   int ViewportSize[2];

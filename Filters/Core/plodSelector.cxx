@@ -837,6 +837,8 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     return a.Order != b.Order ? a.Order < b.Order : a.Node > b.Node;
   };
   int64_t triangles = 0;
+  // the fewest triangles of any refinement queued so far: a lower bound of what the queue holds
+  int64_t smallest = std::numeric_limits<int64_t>::max();
   // judges the cells on the stack, children of a refinement of priority `bound`: cut cells are
   // written, floors refined at once, the other refinements queued with a key of at most `bound`
   // (monotone keys: the queue then yields refinements in non-increasing key order)
@@ -867,6 +869,7 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
       const uint64_t order =
         uint64_t(OrderBits(std::min(priority, bound))) << 32 | OrderBits(priority);
       HeapPush(queue, { order, e.Node, static_cast<uint32_t>(waiting.size()) }, below);
+      smallest = std::min(smallest, r.Owned);
       waiting.push_back(
         { r.Owned, { e.C[0], e.C[1], e.C[2] }, r.First, static_cast<uint8_t>(r.Mask),
           static_cast<uint8_t>(r.Level), d.BrightnessOnly, d.Topology });
@@ -874,19 +877,34 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
   };
   stack.push_back({ 0, { 0, 0, 0 }, false });
   judgeStack(std::numeric_limits<float>::infinity());
+  const bool skip = in.BudgetStop == BudgetStopRule::SkipMisfits;
+  bool refused = false;
   while (!queue.empty())
   {
     const Candidate top = queue.front();
-    const float key = FromOrderBits(static_cast<uint32_t>(top.Order >> 32));
     const WaitingCell w = waiting[top.Slot];
-    // the first refinement that does not fit ends the walk: skipping to cheaper ones would break
-    // the nesting of cuts (a larger budget refines a superset of what a smaller one refines)
     if (triangles + w.Owned > in.TriangleBudget)
     {
-      stats.BudgetRefusedPriority = key;
-      stats.BudgetRefusedTriangles = w.Owned;
-      break;
+      // a misfit. The first one has the largest key of any left in the cut: keys leave the
+      // queue in non-increasing order
+      if (!refused)
+      {
+        refused = true;
+        stats.BudgetRefusedPriority = FromOrderBits(static_cast<uint32_t>(top.Order >> 32));
+        stats.BudgetRefusedTriangles = w.Owned;
+      }
+      // StopAtFirstMisfit: the walk ends here, so that a larger budget refines a superset of
+      // what a smaller one refines. SkipMisfits: the misfit is drawn and cheaper refinements
+      // are made, until nothing queued can fit in the room left.
+      if (!skip)
+        break;
+      HeapPop(queue, below);
+      cut.Add(top.Node, CutDrawn, BudgetLimited);
+      if (in.TriangleBudget - triangles < smallest)
+        break;
+      continue;
     }
+    const float key = FromOrderBits(static_cast<uint32_t>(top.Order >> 32));
     HeapPop(queue, below);
     stats.TopologyRefined += w.Topology ? 1 : 0;
     const Entry e{ top.Node, { w.C[0], w.C[1], w.C[2] }, false };
@@ -900,7 +918,7 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     cut.Add(c.Node, CutDrawn, BudgetLimited);
   }
   stats.BudgetTriangles = triangles;
-  stats.BudgetBinding = !queue.empty() || triangles > in.TriangleBudget;
+  stats.BudgetBinding = refused || triangles > in.TriangleBudget;
 }
 
 } // namespace plod

@@ -96,11 +96,23 @@
  *   tolerance by more than its parent. Equal keys go to the larger own priority, then to the
  *   smaller node index (the coarser cell: nodes are stored level by level). Keys are compared
  *   in single precision.
- * - Stop rule: the top refinement is made if the triangles it adds fit, else the walk stops
- *   there; it does not skip ahead to cheaper refinements. So the pops are the same for every
- *   budget up to the stop, and a larger budget refines a superset of what a smaller one refines,
- *   and leaves a key at most as large (SelectionStats::BudgetRefusedPriority). The cells left in
- *   the queue are drawn at their vertex, reason BudgetLimited.
+ * - Stop rule (SelectionInput::BudgetStop): the top refinement is made if the triangles it adds
+ *   fit. When it does not fit (a misfit):
+ *   StopAtFirstMisfit ends the walk there. The pops are then the same for every budget up to
+ *   the stop, so a larger budget refines a superset of what a smaller one refines.
+ *   SkipMisfits leaves the misfit unrefined and goes on with the next refinements,
+ *   skipping each that does not fit, until the queue is empty or the room left is smaller than
+ *   the smallest refinement queued so far (a lower bound of what the queue holds: nothing in it
+ *   can fit any more, so ending there gives the same cut as emptying it, without the pops).
+ *   Every pop is of a cell the walk already judged, so skipping costs at most one heap pop per
+ *   queued cell beyond the refinements it makes. When it ends, no cell left unrefined by the
+ *   budget would fit in the room left. Cuts no longer nest, but both rules make the same pops up
+ *   to the first misfit, so SkipMisfits refines a superset of what StopAtFirstMisfit refines at
+ *   the same budget, and its first misfit is the stop rule's.
+ *   Either way the first misfit's key is the largest key left in the cut (keys leave the queue in
+ *   non-increasing order: whatever is pushed after it is reached from a smaller key), and it is
+ *   non-increasing as the budget grows (SelectionStats::BudgetRefusedPriority). The cells left
+ *   unrefined are drawn at their vertex, reason BudgetLimited.
  * - The count: a cut draws the triangles owned by its refined nodes and opened leaves
  *   (plodOctree.h, plodPatches.h), so refining node n adds TriangleEnd(n) - FirstTriangle[n]
  *   and opening a leaf its own. The root alone counts 0 (it is one point). The walk keeps that
@@ -189,6 +201,18 @@ enum CutReason : uint8_t
   BudgetLimited = 8       // the tolerances would refine it; the triangle budget did not let it
 };
 
+/// What the budget walk does with a refinement that does not fit in the room left (see
+/// "Triangle budget" in the file documentation).
+enum class BudgetStopRule
+{
+  /// The walk ends at it: a larger budget refines a superset of what a smaller one refines, but
+  /// one costly refinement at the top of the queue can leave much of the budget unused.
+  StopAtFirstMisfit = 0,
+  /// It stays unrefined and the walk goes on with the next refinements, skipping each that does
+  /// not fit: the budget fills, cuts of different budgets no longer nest.
+  SkipMisfits = 1
+};
+
 /// A light in the octree's local coordinates (relative to its origin).
 struct SelectorLight
 {
@@ -252,6 +276,8 @@ struct SelectionInput
   /// refines, in order of priority, the cells the tolerances would refine while their
   /// triangles fit. 0 or negative (default): no budget, the depth-first walk.
   int64_t TriangleBudget = 0;
+  /// What the budget walk does with a refinement that does not fit (default StopAtFirstMisfit).
+  BudgetStopRule BudgetStop = BudgetStopRule::StopAtFirstMisfit;
 };
 
 struct SelectionStats
@@ -267,8 +293,9 @@ struct SelectionStats
   /// The budget stopped refinement before the tolerances were met, or the floors (eye inside,
   /// minimum level) alone exceed it.
   bool BudgetBinding = false;
-  /// When the budget stopped refinement: the queue priority of the refinement that did not fit
-  /// (the largest left in the cut) and the triangles it would have added; else 0.
+  /// When the budget stopped refinement: the queue priority of the first refinement that did not
+  /// fit (the largest left in the cut, with either stop rule) and the triangles it would have
+  /// added; else 0.
   double BudgetRefusedPriority = 0;
   int64_t BudgetRefusedTriangles = 0;
 };

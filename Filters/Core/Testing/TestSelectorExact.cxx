@@ -842,6 +842,7 @@ TEST(SelectorExact, BudgetStopsAtTheFirstRefinementThatDoesNotFit)
   // A first (its ratio is larger) but it owns 20 triangles: a budget of 10 stops there, and B
   // (5, which would fit) is not refined either: a larger budget must refine a superset
   ForkScene s;
+  s.In.BudgetStop = plod::BudgetStopRule::StopAtFirstMisfit;
   s.T.Owned[1] = 20;
   s.T.Owned[2] = 5;
   s.SetA(1.5 * s.B());
@@ -863,6 +864,94 @@ TEST(SelectorExact, BudgetStopsAtTheFirstRefinementThatDoesNotFit)
   EXPECT_FALSE(r.Stats.BudgetBinding);
   EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 0);
   EXPECT_EQ(r.Stats.BudgetRefusedPriority, 0);
+}
+
+TEST(SelectorExact, BudgetSkipsARefinementThatDoesNotFitAndMakesCheaperOnes)
+{
+  // The same tree with SkipMisfits: A (20 triangles) does not fit in 10, is drawn
+  // at its vertex, and B (5) is opened. A is still the refused refinement reported: the first
+  // misfit, whose key (1.5 rB) is the largest left in the cut.
+  ForkScene s;
+  s.In.BudgetStop = plod::BudgetStopRule::SkipMisfits;
+  s.T.Owned[1] = 20;
+  s.T.Owned[2] = 5;
+  s.SetA(1.5 * s.B());
+  auto r = s.Select(10);
+  EXPECT_EQ(r.State[0], plod::NotInCut);
+  EXPECT_EQ(r.State[1], plod::CutDrawn);
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 5);
+  EXPECT_TRUE(r.Stats.BudgetBinding); // the queue is empty, but a refinement was refused
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 1.5 * s.B(), 1e-5 * s.B());
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 20);
+  EXPECT_EQ(r.Stats.InCut, 2);
+  EXPECT_EQ(r.Stats.Drawn, 2);
+  r = s.Select(4); // neither fits
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 0);
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 20);
+  r = s.Select(24); // A fits; then B does not (4 left): as the stop rule
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 20);
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 5);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, s.B(), 1e-5 * s.B());
+  r = s.Select(25); // both: the tolerance cut
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_FALSE(r.Stats.BudgetBinding);
+  EXPECT_EQ(r.Stats.BudgetRefusedPriority, 0);
+
+  // after a misfit, a refinement that fills the room exactly is made (the walk ends only when
+  // the room is below every refinement queued): B owning 10, room 10
+  s.T.Owned[2] = 10;
+  r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 10);
+  r = s.Select(9);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 0);
+  // and one that adds no triangle is made even with no room left
+  s.T.Owned[2] = 0;
+  r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+}
+
+TEST(SelectorExact, BudgetRulesAgreeUpToTheFirstMisfitAtEveryBudget)
+{
+  // Budgets 1 to 40 on the root (3 triangles), A (first, 20) and B (5), both rules: the count
+  // is within the budget; skipping fills at least as much, and more exactly where the stop rule
+  // leaves B out though it fits (below 23 triangles: root + B only); both report the same first
+  // misfit, whose priority never rises with the budget (the pops before it are the same).
+  ForkScene s;
+  s.T.Owned[0] = 3;
+  s.T.Owned[1] = 20;
+  s.T.Owned[2] = 5;
+  s.SetA(1.5 * s.B());
+  double previous = std::numeric_limits<double>::infinity();
+  for (int64_t budget = 1; budget <= 40; ++budget)
+  {
+    s.In.BudgetStop = plod::BudgetStopRule::StopAtFirstMisfit;
+    const auto stop = s.Select(budget);
+    s.In.BudgetStop = plod::BudgetStopRule::SkipMisfits;
+    const auto skip = s.Select(budget);
+    const int64_t expectStop = budget >= 28 ? 28 : budget >= 23 ? 23 : budget >= 3 ? 3 : 0;
+    const int64_t expectSkip = budget >= 28 ? 28
+      : budget >= 23                        ? 23
+      : budget >= 8                         ? 8
+      : budget >= 3                         ? 3
+                                            : 0;
+    EXPECT_EQ(stop.Stats.BudgetTriangles, expectStop) << budget;
+    EXPECT_EQ(skip.Stats.BudgetTriangles, expectSkip) << budget;
+    EXPECT_EQ(skip.Stats.BudgetRefusedPriority, stop.Stats.BudgetRefusedPriority) << budget;
+    EXPECT_EQ(skip.Stats.BudgetRefusedTriangles, stop.Stats.BudgetRefusedTriangles) << budget;
+    EXPECT_EQ(skip.Stats.BudgetBinding, budget < 28) << budget;
+    EXPECT_LE(skip.Stats.BudgetRefusedPriority, previous) << budget;
+    previous = skip.Stats.BudgetRefusedPriority;
+  }
 }
 
 TEST(SelectorExact, BudgetCountsTheTrianglesOfRefinedNodesAndOpenedLeaves)

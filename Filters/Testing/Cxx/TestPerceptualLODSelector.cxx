@@ -1176,12 +1176,18 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
   //   masks), not binding; a smaller one is binding, refines only cells the tolerances refine,
   //   and stops at a refinement that would not have fitted (BudgetTriangles + its triangles >
   //   budget; with exactly that budget it is made and the count reaches it);
-  // - a larger budget refines a superset of what a smaller one refines, and the refused
-  //   priority (the largest left in the cut) never rises.
+  // - with the stop rule StopAtFirstMisfit, a larger budget refines a superset of what a smaller
+  //   one refines, and the refused priority (the largest left in the cut) never rises;
+  // - with SkipMisfits, at the same budget: the count is exact and within the budget; it refines
+  //   a superset of what the stop rule refines (so it fills at least as much), only cells the
+  //   tolerances refine, and refuses first the same refinement (same priority and triangles: the
+  //   pops before the first misfit are the stop rule's, and every key popped after it was
+  //   reached from a smaller key), so its refused priority never rises with the budget either;
+  //   and no cell it leaves unrefined (BudgetLimited) would fit in the room left.
   std::mt19937 rng(14);
   const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { 4.5, -2, 1.5 },
     { -1.2, 0.3, 1.9 } };
-  int binding = 0, checked = 0;
+  int binding = 0, checked = 0, filledMore = 0;
   for (auto& model : BudgetModels())
   {
     BudgetScene scene(model.second, model.first == std::string("soup") ? 6 : 7);
@@ -1213,9 +1219,11 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
           budgets.end());
         std::vector<uint8_t> previousRefined;
         double previousRefused = std::numeric_limits<double>::infinity();
+        double previousSkipRefused = std::numeric_limits<double>::infinity();
         for (const int64_t budget : budgets)
         {
           in.TriangleBudget = budget;
+          in.BudgetStop = plod::BudgetStopRule::StopAtFirstMisfit;
           const plod::SelectionStats stats = scene.Select(in);
           ASSERT_TRUE(plod::ValidateCut(scene.View, scene.State.data())) << what << " " << budget;
           const auto refined = scene.Refined();
@@ -1265,12 +1273,49 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
             const plod::SelectionStats more = scene.Select(in);
             EXPECT_EQ(more.BudgetTriangles, next) << what << " " << budget;
           }
+
+          // the same budget with SkipMisfits
+          in.TriangleBudget = budget;
+          in.BudgetStop = plod::BudgetStopRule::SkipMisfits;
+          const plod::SelectionStats skip = scene.Select(in);
+          const std::string at = what + " skip " + std::to_string(budget);
+          ASSERT_TRUE(plod::ValidateCut(scene.View, scene.State.data())) << at;
+          const auto skipRefined = scene.Refined();
+          EXPECT_EQ(scene.Owned(skipRefined), skip.BudgetTriangles) << at;
+          EXPECT_LE(skip.BudgetTriangles, budget) << at;
+          EXPECT_LE(scene.PatchTriangles(), budget) << at;
+          EXPECT_GE(skip.BudgetTriangles, stats.BudgetTriangles) << at;
+          filledMore += skip.BudgetTriangles > stats.BudgetTriangles;
+          EXPECT_EQ(skip.BudgetBinding, stats.BudgetBinding) << at;
+          EXPECT_EQ(skip.BudgetRefusedPriority, stats.BudgetRefusedPriority) << at;
+          EXPECT_EQ(skip.BudgetRefusedTriangles, stats.BudgetRefusedTriangles) << at;
+          EXPECT_LE(skip.BudgetRefusedPriority, previousSkipRefused) << at;
+          previousSkipRefused = skip.BudgetRefusedPriority;
+          if (budget >= N)
+          {
+            EXPECT_TRUE(scene.State == state0 && scene.Reason == reason0 && scene.Mask == mask0)
+              << at << " >= " << N << " but not the tolerance cut";
+          }
+          const int64_t room = budget - skip.BudgetTriangles;
+          for (int64_t n = 0; n < scene.View.NumberOfNodes; ++n)
+          {
+            ASSERT_FALSE(refined[n] && !skipRefined[n])
+              << at << ": node " << n << " refined by the stop rule only";
+            ASSERT_FALSE(skipRefined[n] && !refined0[n])
+              << at << ": node " << n << " refined beyond the tolerances";
+            if (scene.State[n] != plod::NotInCut && scene.Reason[n] == plod::BudgetLimited)
+            {
+              ASSERT_GT(scene.View.TriangleEnd(n) - scene.View.FirstTriangle[n], room)
+                << at << ": node " << n << " left unrefined though it fits in the room left";
+            }
+          }
         }
       }
     }
   }
   EXPECT_GT(binding, 100);
   EXPECT_GT(checked, 500);
+  EXPECT_GT(filledMore, 20); // the rules differ on these models
 }
 
 TEST(PerceptualLODSelector, BudgetFloorsWithTheEyeInsideAndAMinimumLevel)
@@ -1368,4 +1413,42 @@ TEST(PerceptualLODSelector, TriangleBudgetThroughTheFilter)
   p.Selector->PrintSelf(text, vtkIndent());
   EXPECT_NE(text.str().find("TriangleBudget: 1"), std::string::npos);
   EXPECT_NE(text.str().find("budget was binding"), std::string::npos);
+}
+
+TEST(PerceptualLODSelector, BudgetStopRuleThroughTheFilter)
+{
+  Pipeline p(plodtest::MakeBlob(6, 80, 0.3), 7);
+  p.Selector->AddLight(false, 0.3, 0.6, 1.0, 0.8, 0.5);
+  const double eye[3] = { 0.5, 0.8, 3.0 }, focus[3] = { 0, 0, 0 };
+  p.Look(eye, focus);
+  EXPECT_EQ(p.Selector->GetBudgetStopRule(), vtkPerceptualLODSelector::BUDGET_STOP_AT_FIRST_MISFIT);
+  p.Selector->SetBudgetStopRule(7); // clamped
+  EXPECT_EQ(p.Selector->GetBudgetStopRule(), vtkPerceptualLODSelector::BUDGET_SKIP_MISFITS);
+  p.Selector->SetBudgetStopRule(-1);
+  EXPECT_EQ(p.Selector->GetBudgetStopRule(), vtkPerceptualLODSelector::BUDGET_STOP_AT_FIRST_MISFIT);
+  p.Patches->Update();
+  const vtkIdType N = p.Selector->GetNumberOfBudgetTriangles();
+  // the rule is forwarded: at the same budget, skipping fills at least as much, within it, and
+  // more at one budget at least
+  int more = 0;
+  for (const vtkIdType budget : { N / 10, N / 4, N / 3, N / 2 })
+  {
+    p.Selector->SetTriangleBudget(budget);
+    p.Selector->SetBudgetStopRuleToStopAtFirstMisfit();
+    p.Patches->Update();
+    const vtkIdType stop = p.Selector->GetNumberOfBudgetTriangles();
+    const vtkMTimeType before = p.Selector->GetMTime();
+    p.Selector->SetBudgetStopRuleToSkipMisfits();
+    EXPECT_GT(p.Selector->GetMTime(), before);
+    p.Patches->Update();
+    const vtkIdType skip = p.Selector->GetNumberOfBudgetTriangles();
+    EXPECT_GE(skip, stop) << budget;
+    EXPECT_LE(skip, budget);
+    EXPECT_LE(p.Patches->GetNumberOfTriangles(), budget);
+    more += skip > stop;
+  }
+  EXPECT_GT(more, 0);
+  std::ostringstream text;
+  p.Selector->PrintSelf(text, vtkIndent());
+  EXPECT_NE(text.str().find("stop rule SkipMisfits"), std::string::npos) << text.str();
 }
