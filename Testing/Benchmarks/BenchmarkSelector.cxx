@@ -162,16 +162,19 @@ vtkIdType ToleranceTriangles(int mode, double tolerance)
 }
 
 /// The budget walk (priority-queue refinement from the root) with a budget of range(2) percent
-/// of the tolerance cut's triangles: below 100 binding, above not.
+/// of the tolerance cut's triangles: below 100 binding, above not. range(3): the stop rule
+/// (0 StopAtFirstMisfit, 1 SkipMisfits).
 void BM_SelectBudget(benchmark::State& state)
 {
   const int mode = static_cast<int>(state.range(0));
   const double tolerance = state.range(1) / 100.0;
   const vtkIdType budget = ToleranceTriangles(mode, tolerance) * state.range(2) / 100;
+  const int rule = static_cast<int>(state.range(3));
   auto selector = MakeSelector(mode, tolerance);
   selector->SetTriangleBudget(budget);
+  selector->SetBudgetStopRule(rule);
   Orbit orbit;
-  double visited = 0, seconds = 0, binding = 0, frames = 0;
+  double visited = 0, seconds = 0, binding = 0, frames = 0, fill = 0;
   for (auto _ : state)
   {
     orbit.Next(selector);
@@ -180,6 +183,7 @@ void BM_SelectBudget(benchmark::State& state)
     visited += static_cast<double>(selector->GetNumberOfVisitedNodes());
     seconds += selector->GetSelectTime();
     binding += selector->GetBudgetWasBinding() ? 1 : 0;
+    fill += double(selector->GetNumberOfBudgetTriangles()) / double(budget);
     ++frames;
   }
   state.counters["Mvisited/s"] = visited / seconds * 1e-6;
@@ -188,8 +192,9 @@ void BM_SelectBudget(benchmark::State& state)
   state.counters["triangles"] = static_cast<double>(selector->GetNumberOfBudgetTriangles());
   state.counters["budget"] = static_cast<double>(budget);
   state.counters["binding"] = binding / frames;
+  state.counters["fill"] = fill / frames; // the cut's triangles over the budget
   state.SetLabel(std::string(Names[mode]) + " T_s=" + std::to_string(tolerance).substr(0, 4) +
-    " budget " + std::to_string(state.range(2)) + "%");
+    " budget " + std::to_string(state.range(2)) + "%" + (rule ? " skip" : " stop"));
 }
 
 /**
@@ -279,9 +284,10 @@ BENCHMARK(BM_Select)
   ->Unit(benchmark::kMillisecond);
 
 // the triangle budget beside the tolerance walk above: SRCC and SRCC+TMM at T_s = 0.25 and 1,
-// budgets of 25 % (binding) and 200 % (not binding) of the tolerance cut's triangles
+// budgets of 25 % (binding) and 200 % (not binding) of the tolerance cut's triangles, both stop
+// rules
 BENCHMARK(BM_SelectBudget)
-  ->ArgsProduct({ { SRCC, SRCC_TMM }, { 25, 100 }, { 25, 200 } })
+  ->ArgsProduct({ { SRCC, SRCC_TMM }, { 25, 100 }, { 25, 200 }, { 0, 1 } })
   ->UseManualTime()
   ->Unit(benchmark::kMillisecond);
 
