@@ -837,8 +837,14 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     return a.Order != b.Order ? a.Order < b.Order : a.Node > b.Node;
   };
   int64_t triangles = 0;
-  // the fewest triangles of any refinement queued so far: a lower bound of what the queue holds
-  int64_t smallest = std::numeric_limits<int64_t>::max();
+  // how many queued refinements add k triangles, for 0 < k < Few: whether one of them fits a
+  // small room left (SkipMisfits)
+  constexpr int64_t Few = 64;
+  int32_t few[Few] = {};
+  const auto count = [&few](int64_t owned, int32_t change) {
+    if (owned > 0 && owned < Few)
+      few[owned] += change;
+  };
   // judges the cells on the stack, children of a refinement of priority `bound`: cut cells are
   // written, floors refined at once, the other refinements queued with a key of at most `bound`
   // (monotone keys: the queue then yields refinements in non-increasing key order)
@@ -869,7 +875,7 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
       const uint64_t order =
         uint64_t(OrderBits(std::min(priority, bound))) << 32 | OrderBits(priority);
       HeapPush(queue, { order, e.Node, static_cast<uint32_t>(waiting.size()) }, below);
-      smallest = std::min(smallest, r.Owned);
+      count(r.Owned, 1);
       waiting.push_back(
         { r.Owned, { e.C[0], e.C[1], e.C[2] }, r.First, static_cast<uint8_t>(r.Mask),
           static_cast<uint8_t>(r.Level), d.BrightnessOnly, d.Topology });
@@ -894,18 +900,45 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
         stats.BudgetRefusedTriangles = w.Owned;
       }
       // StopAtFirstMisfit: the walk ends here, so that a larger budget refines a superset of
-      // what a smaller one refines. SkipMisfits: the misfit is drawn and cheaper refinements
-      // are made, until nothing queued can fit in the room left.
+      // what a smaller one refines. SkipMisfits: the misfit is drawn and the walk goes on.
       if (!skip)
         break;
       HeapPop(queue, below);
+      count(w.Owned, -1);
       cut.Add(top.Node, CutDrawn, BudgetLimited);
-      if (in.TriangleBudget - triangles < smallest)
-        break;
+      const int64_t room = in.TriangleBudget - triangles;
+      bool fits = room >= Few;
+      for (int64_t k = 1; k <= room && k < Few && !fits; ++k)
+        fits = few[k] > 0;
+      if (fits)
+        continue;
+      // No queued refinement that adds triangles fits any more, and the room will not change
+      // until the walk reaches new cells: only refinements adding none can be made, and in any
+      // order. One pass over the queue makes them and draws the others, instead of a heap pop
+      // for each; the walk goes on with the refinements they queue, whose keys order them as
+      // before. The cut is the one that popping the whole queue in order would give.
+      const std::vector<Candidate> rest(queue.begin(), queue.end());
+      queue.clear();
+      for (const Candidate& c : rest)
+      {
+        const WaitingCell r = waiting[c.Slot];
+        count(r.Owned, -1);
+        if (r.Owned > 0 || triangles > in.TriangleBudget)
+        {
+          cut.Add(c.Node, CutDrawn, BudgetLimited);
+          continue;
+        }
+        stats.TopologyRefined += r.Topology ? 1 : 0;
+        const Entry e{ c.Node, { r.C[0], r.C[1], r.C[2] }, false };
+        triangles += RefineCell(v, e, { r.ChildMask, r.FirstChild, r.Level, r.Owned },
+          r.ChildrenBrightnessOnly, stack, cut);
+        judgeStack(FromOrderBits(static_cast<uint32_t>(c.Order >> 32)));
+      }
       continue;
     }
     const float key = FromOrderBits(static_cast<uint32_t>(top.Order >> 32));
     HeapPop(queue, below);
+    count(w.Owned, -1);
     stats.TopologyRefined += w.Topology ? 1 : 0;
     const Entry e{ top.Node, { w.C[0], w.C[1], w.C[2] }, false };
     triangles += RefineCell(

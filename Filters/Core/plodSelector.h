@@ -100,15 +100,19 @@
  *   fit. When it does not fit (a misfit):
  *   StopAtFirstMisfit ends the walk there. The pops are then the same for every budget up to
  *   the stop, so a larger budget refines a superset of what a smaller one refines.
- *   SkipMisfits leaves the misfit unrefined and goes on with the next refinements,
- *   skipping each that does not fit, until the queue is empty or the room left is smaller than
- *   the smallest refinement queued so far (a lower bound of what the queue holds: nothing in it
- *   can fit any more, so ending there gives the same cut as emptying it, without the pops).
- *   Every pop is of a cell the walk already judged, so skipping costs at most one heap pop per
- *   queued cell beyond the refinements it makes. When it ends, no cell left unrefined by the
- *   budget would fit in the room left. Cuts no longer nest, but both rules make the same pops up
- *   to the first misfit, so SkipMisfits refines a superset of what StopAtFirstMisfit refines at
- *   the same budget, and its first misfit is the stop rule's.
+ *   SkipMisfits leaves the misfit unrefined and goes on with the next refinements in key order,
+ *   skipping each that does not fit, until the queue is empty. Cut-off, exact: the walk counts
+ *   the queued refinements by the triangles they add (from 1 to 63); once the room left is
+ *   below 64 and none of them fits it, only refinements adding no triangle (a cell whose
+ *   triangles all lie within its children) can still be made, and in any order, since the room
+ *   no longer changes. One linear pass over the queue then makes those and draws the others,
+ *   instead of a heap pop each (which cost +45 % of the walk's time on the benchmark scene at 25
+ *   % of its tolerance cut, where the queue held 2,300 cells and 161 refinements adding nothing
+ *   were made after the first misfit); the walk goes on in key order with what they queue. The
+ *   cut is the one popping the whole queue would give. When the walk ends, no cell left
+ *   unrefined by the budget would fit in the room left. Cuts no longer nest, but both rules make
+ *   the same pops up to the first misfit, so SkipMisfits refines a superset of what
+ *   StopAtFirstMisfit refines at the same budget, and its first misfit is the stop rule's.
  *   Either way the first misfit's key is the largest key left in the cut (keys leave the queue in
  *   non-increasing order: whatever is pushed after it is reached from a smaller key), and it is
  *   non-increasing as the budget grows (SelectionStats::BudgetRefusedPriority). The cells left

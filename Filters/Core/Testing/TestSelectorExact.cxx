@@ -918,6 +918,16 @@ TEST(SelectorExact, BudgetSkipsARefinementThatDoesNotFitAndMakesCheaperOnes)
   r = s.Select(10);
   EXPECT_EQ(r.State[2], plod::CutOpen);
   EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  // sizes beyond those the walk counts (64 and up): A (200) skipped, B (70) fits in 100
+  s.T.Owned[1] = 200;
+  s.T.Owned[2] = 70;
+  r = s.Select(100);
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 70);
+  r = s.Select(69);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 0);
 }
 
 TEST(SelectorExact, BudgetRulesAgreeUpToTheFirstMisfitAtEveryBudget)
