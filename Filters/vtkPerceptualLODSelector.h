@@ -294,17 +294,17 @@ public:
   enum BudgetStopRules
   {
     BUDGET_STOP_AT_FIRST_MISFIT = 0, ///< the first refinement that does not fit ends the walk
-    BUDGET_SKIP_MISFITS = 1          ///< refinements that do not fit are skipped
+    BUDGET_SKIP_MISFITS = 1          ///< refinements that do not fit are skipped (default)
   };
   ///@{
   /**
    * What the triangle budget does with a refinement that does not fit in the room left.
-   * BUDGET_STOP_AT_FIRST_MISFIT (default) ends the walk there, so that a larger budget always
-   * refines a superset of what a smaller one refines, at the price of leaving part of the budget
-   * unused where single refinements bring many triangles (the poles of a UV sphere: 43-76 % of
-   * the budget used, docs/results/budget.md); BUDGET_SKIP_MISFITS leaves it unrefined and goes
-   * on with the next ones, so the budget fills. Both are the tolerance cut when it fits. See
-   * plodSelector.h.
+   * BUDGET_SKIP_MISFITS (default) leaves it unrefined and goes on with the next ones, so the
+   * budget fills; BUDGET_STOP_AT_FIRST_MISFIT ends the walk there, so that a larger budget always
+   * refines a superset of what a smaller one refines. Measured (docs/results/budget.md): skipping
+   * is within 0.02 dB of stopping or better, by up to 0.6 dB, fills 99.4-100 % of the budget
+   * against 94.6-100 %, and costs 0-6 % more selection time. Both are the tolerance cut when it
+   * fits. See plodSelector.h.
    */
   vtkSetClampMacro(BudgetStopRule, int, BUDGET_STOP_AT_FIRST_MISFIT, BUDGET_SKIP_MISFITS);
   vtkGetMacro(BudgetStopRule, int);

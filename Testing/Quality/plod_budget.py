@@ -7,17 +7,25 @@ reference).
       /usr/bin/python3 Testing/Quality/plod_budget.py [--models bunny,lucy,generated] [--out docs/results]
 
 - tolerance: T_s = s px, T_b = 4 s, s in 0.25 ... 16 (the default mode);
-- budget-stop, budget-skip: the same triangle counts as the tolerance points, as TriangleBudget,
+- budget-stop, budget-skip: the triangle counts the tolerance points draw, as TriangleBudget,
   with a floor of tolerances 16 times finer (T_s = 1/16 px), so that the budget decides which
   cells are refined (in order of error over tolerance) and the tolerances only bound it; the
   first with BUDGET_STOP_AT_FIRST_MISFIT (the walk ends at the first refinement that does not
   fit), the second with BUDGET_SKIP_MISFITS (such refinements are skipped);
+- budget-stop@count, budget-skip@count: the same with the budget set to what the tolerance cut
+  counts (GetNumberOfBudgetTriangles: the triangles its refined cells own, back-facing ones and
+  those touching hidden cells included, which the patches do not draw), the unit the budget is
+  in;
 - QD: vtkQuadricDecimation of the full mesh to the same count, once per view.
 Models: the Stanford bunny and Lucy (a real scan, decimated by a third party: 15,000 triangles)
 from the data folder when there (skipped, with a message, when not), and the generated UV sphere.
-Columns: `triangles` drawn, `budget_triangles` (the selector's count, what the budget bounds),
-`fill` = triangles / target, `select_ms` the median of 5 forced selections of that cut.
-Writes <out>/budget.csv and prints a table of medians.
+Columns: `target` the tolerance point's drawn triangles, `budget` the TriangleBudget given,
+`triangles` drawn, `budget_triangles` (the selector's count, what the budget bounds), `fill` =
+triangles / target, `select_ms` the median of 5 forced selections of that cut.
+Nesting (both rules, azimuth 0): 30 budgets from 5 % to 100 % of the count of the tolerance cut
+at T_s = 1 px (each 11 % above the previous, floor as above); `coarsened` counts the cells a
+budget refines that the next, larger one does not, `changed` the cut entries that change.
+Writes <out>/budget.csv and <out>/budget_nesting.csv and prints a table of medians.
 """
 import argparse
 import csv
@@ -25,6 +33,7 @@ import os
 import sys
 
 import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
@@ -55,8 +64,8 @@ def measure(name, model, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
         scene.view(az, pf.DISTANCES['mid'])
         ref = scene.render_actor(scene.ref_actor)
 
-        def row(method, target, triangles, img, ms=float('nan')):
-            rows.append(dict(model=name, azimuth=az, method=method, target=target,
+        def row(method, target, triangles, img, ms=float('nan'), budget=0):
+            rows.append(dict(model=name, azimuth=az, method=method, target=target, budget=budget,
                              triangles=triangles,
                              budget_triangles=scene.selector.GetNumberOfBudgetTriangles()
                              if method != 'QD' else triangles,
@@ -65,17 +74,55 @@ def measure(name, model, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
         for scale in scales:
             scene.selector.SetTriangleBudget(0)
             img, tris = scene.render_lod(scale)
+            counted = scene.selector.GetNumberOfBudgetTriangles()
             row('tolerance', tris, tris, img, select_ms(scene))
             if tris == 0:
                 continue
-            for method, rule in RULES:
-                getattr(scene.selector, 'SetBudgetStopRuleTo' + rule)()
-                scene.selector.SetTriangleBudget(tris)
-                img, btris = scene.render_lod(FLOOR)
-                row(method, tris, btris, img, select_ms(scene))
+            for suffix, budget in (('', tris), ('@count', counted)):
+                for method, rule in RULES:
+                    getattr(scene.selector, 'SetBudgetStopRuleTo' + rule)()
+                    scene.selector.SetTriangleBudget(budget)
+                    img, btris = scene.render_lod(FLOOR)
+                    row(method + suffix, tris, btris, img, select_ms(scene), budget)
             scene.selector.SetTriangleBudget(0)
             qd, qd_tris = pf.decimated(scene.full, tris)
             row('QD', tris, qd_tris, scene.render_data(qd))
+    return rows
+
+
+def nesting(name, model, steps=30):
+    """Rows of the nesting measurement (module docstring), one per stop rule."""
+    scene = pf.Scene(model)
+    scene.view(0, pf.DISTANCES['mid'])
+    scene.selector.SetTriangleBudget(0)
+    scene.render_lod(1.0)
+    count = scene.selector.GetNumberOfBudgetTriangles()
+    parent = vtk_to_numpy(scene.selector.GetOutput().GetNodeData().GetArray('Parent'))
+
+    def cut():
+        state = vtk_to_numpy(
+            scene.selector.GetOutput().GetNodeData().GetArray('CutState')).copy()
+        above = np.zeros(len(state), bool)  # nodes are stored level by level: parents first
+        for n in range(len(state)):
+            above[n] = state[n] == 0 and (parent[n] < 0 or above[parent[n]])
+        return above | (state == 3), state  # refined: above the cut, or an opened leaf
+    rows = []
+    for method, rule in RULES:
+        getattr(scene.selector, 'SetBudgetStopRuleTo' + rule)()
+        coarsened = changed = entries = 0
+        previous = None
+        for budget in np.geomspace(0.05 * count, count, steps).astype(int):
+            scene.selector.SetTriangleBudget(int(budget))
+            scene.render_lod(FLOOR)
+            refined, state = cut()
+            if previous is not None:
+                coarsened += int((previous[0] & ~refined).sum())
+                changed += int((previous[1] != state).sum())
+                entries += int((state > 0).sum())
+            previous = (refined, state)
+        rows.append(dict(model=name, method=method, steps=steps, count=count,
+                         coarsened=coarsened, changed=changed, cut_entries=entries))
+    scene.selector.SetTriangleBudget(0)
     return rows
 
 
@@ -86,26 +133,39 @@ def main():
     ap.add_argument('--models', default='bunny,lucy,generated')
     args = ap.parse_args()
     wanted = set(args.models.split(','))
-    rows = []
+    rows, nested = [], []
+    models = []
     for key, file in (('bunny', 'bun_zipper.ply'), ('lucy', 'lucy.ply')):
         path = os.path.join(args.data, file)
         if key not in wanted:
             continue
         if os.path.exists(path):
-            rows += measure(key, pf.read_ply(path))
+            models.append((key, pf.read_ply(path)))
         else:
             print('%s skipped: %s not found' % (key, path))
     if 'generated' in wanted:
-        rows += measure('generated', pf.displaced_sphere(400))
+        models.append(('generated', pf.displaced_sphere(400)))
+    for key, model in models:
+        rows += measure(key, model)
+        nested += nesting(key, model)
+    with open(os.path.join(args.out, 'budget_nesting.csv'), 'w', newline='') as f:
+        writer = csv.DictWriter(f, ['model', 'method', 'steps', 'count', 'coarsened', 'changed',
+                                    'cut_entries'])
+        writer.writeheader()
+        writer.writerows(nested)
+    for r in nested:
+        print('%(model)-10s %(method)-12s %(steps)d budgets up to %(count)d: %(coarsened)d cells '
+              'coarsened as the budget rose, %(changed)d cut entries changed' % r)
     path = os.path.join(args.out, 'budget.csv')
     with open(path, 'w', newline='') as f:
-        writer = csv.DictWriter(f, ['model', 'azimuth', 'method', 'target', 'triangles',
+        writer = csv.DictWriter(f, ['model', 'azimuth', 'method', 'target', 'budget', 'triangles',
                                     'budget_triangles', 'fill', 'select_ms', 'psnr'])
         writer.writeheader()
         writer.writerows(rows)
-    methods = ('tolerance', 'budget-stop', 'budget-skip', 'QD')
+    methods = ('tolerance', 'budget-stop', 'budget-skip', 'budget-stop@count',
+               'budget-skip@count', 'QD')
     print('%-10s %3s %8s | %s' % ('model', 'az', 'target',
-                                  ' | '.join('%-29s' % m for m in methods)))
+                                  ' | '.join('%-30s' % m for m in methods)))
     keys = sorted({(r['model'], r['azimuth'], r['target']) for r in rows})
     for key in keys:
         cells = []

@@ -868,11 +868,11 @@ TEST(SelectorExact, BudgetStopsAtTheFirstRefinementThatDoesNotFit)
 
 TEST(SelectorExact, BudgetSkipsARefinementThatDoesNotFitAndMakesCheaperOnes)
 {
-  // The same tree with SkipMisfits: A (20 triangles) does not fit in 10, is drawn
+  // The same tree with SkipMisfits (the default): A (20 triangles) does not fit in 10, is drawn
   // at its vertex, and B (5) is opened. A is still the refused refinement reported: the first
   // misfit, whose key (1.5 rB) is the largest left in the cut.
   ForkScene s;
-  s.In.BudgetStop = plod::BudgetStopRule::SkipMisfits;
+  ASSERT_EQ(s.In.BudgetStop, plod::BudgetStopRule::SkipMisfits);
   s.T.Owned[1] = 20;
   s.T.Owned[2] = 5;
   s.SetA(1.5 * s.B());

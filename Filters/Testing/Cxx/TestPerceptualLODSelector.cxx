@@ -1421,7 +1421,7 @@ TEST(PerceptualLODSelector, BudgetStopRuleThroughTheFilter)
   p.Selector->AddLight(false, 0.3, 0.6, 1.0, 0.8, 0.5);
   const double eye[3] = { 0.5, 0.8, 3.0 }, focus[3] = { 0, 0, 0 };
   p.Look(eye, focus);
-  EXPECT_EQ(p.Selector->GetBudgetStopRule(), vtkPerceptualLODSelector::BUDGET_STOP_AT_FIRST_MISFIT);
+  EXPECT_EQ(p.Selector->GetBudgetStopRule(), vtkPerceptualLODSelector::BUDGET_SKIP_MISFITS);
   p.Selector->SetBudgetStopRule(7); // clamped
   EXPECT_EQ(p.Selector->GetBudgetStopRule(), vtkPerceptualLODSelector::BUDGET_SKIP_MISFITS);
   p.Selector->SetBudgetStopRule(-1);
