@@ -6,7 +6,11 @@ VTK's alternatives. One command writes CSV files, PNG plots and a Markdown resul
 
 --quick runs a small generated model with few frames (the CTest smoke test, under a minute).
 Without it: the Stanford bunny mesh and the merged bunny range scans (when ../shared/data is
-there), and a generated model of 1,005,360 triangles.
+there), and a generated model of 1,005,360 triangles. `--sections a,b` measures only those
+sections (the others keep their CSV files, and the page keeps the last full run's time);
+`--models a,b` only those models, e.g. the equal-budget protocol alone (about 8 min here):
+
+    ... plod_measure.py --models bunny,generated1M --sections moving-budget --out docs/results
 
 What it measures (METHOD §4):
 1. still images at equal triangle counts (SRCC Fig. 9): PSNR and SSIM against full resolution
@@ -30,7 +34,21 @@ What it measures (METHOD §4):
    (VELOCITY_SCALES_ERROR_MODEL). All four are calibrated (their speed constant, by bisection)
    so that their mean frame time equals TMM's (TMM §5.2); vtkLODActor and vtkQuadricLODActor
    are run with a desired update rate of 1 / dt;
-5. Zhu's perceptual metric PM = VPs / TPs over viewing distance from d_1 = R / sin(theta/2),
+5. the same movements at equal triangle budgets (issue 14, `--sections moving-budget`): every
+   method gets the same TriangleBudget per frame, so the comparison no longer depends on how
+   the renderer's time scales. The budgets are TMM's mean triangle count at its tolerance on the
+   same schedule (counted as the budget counts: the triangles refined cells own, about twice
+   what a closed model draws), and half of it. Each method's tolerances are 16 times finer than the papers'
+   (T_s = 1/16 px, T_b = 1/4), a floor under which the budget decides what is refined, in the
+   order of each method's own priority (plod_budget.py's FLOOR). Frames run at the display rate:
+   the frame shown at k dt was selected and rendered for the scene at (k - 1) dt (one frame of
+   latency, the frame time being dt whatever the renderer takes), with motion measured over dt.
+   IPV and DPV keep the speed constants the time-matched protocol calibrated (moving.csv, same
+   model, movement and dt; the selector's defaults when there is none): the speed factor is one
+   number for the whole object, so under a binding budget it changes no order, and IPV, DPV
+   (velocity alone) draw the same cut, as do IPV-SRCC, DPV-SRCC and SRCC, unless the speed factor
+   lifts the floor above the budget (DPV at its constant: the root alone);
+6. Zhu's perceptual metric PM = VPs / TPs over viewing distance from d_1 = R / sin(theta/2),
    TPs being the object's pixel count at d_1 (one constant per model), for the bunny and
    Stanford's own bun_zipper_res2..4 (all smooth-shaded alike), the distances where a coarser
    level's PM meets the full mesh's, and where each PM falls to 0.5, 0.25 and 0.1.
@@ -89,6 +107,8 @@ METHODS = {
     'Cheng': ('Cheng', 'None', 'paper', 'Alone'),
 }
 VELOCITY_METHODS = ('IPV', 'DPV', 'IPV-SRCC', 'DPV-SRCC')
+# the triangle budget's floor: the methods' tolerances 16 times finer (plod_budget.py's FLOOR)
+BUDGET_FLOOR = 1.0 / 16
 
 
 # ---- models -----------------------------------------------------------------------------------
@@ -663,6 +683,90 @@ def moving_protocol(scene, distance, instants, writer, dts=(1 / 30, 1 / 60, 1 / 
     return rows
 
 
+def moving_at_budget(scene, name, kind, dt, distance, instants, references, budget, speed=None):
+    """One method on the display-rate schedule (moving-budget): the frame shown at k dt is
+    selected and rendered for the scene at (k - 1) dt, its motion measured over dt. With a budget,
+    the tolerances are the floor (BUDGET_FLOOR times the papers'); without one (0), the papers'
+    tolerances. Returns (mean PSNR, standard deviation, mean triangles drawn, mean select + patch
+    + render ms, mean triangles counted: GetNumberOfBudgetTriangles, the budget's unit)."""
+    s = scene.selector
+    scene.method(name, BUDGET_FLOOR if budget else 1.0)
+    if speed is not None:
+        scene.set_velocity_constant(name, speed)
+    s.SetFrameInterval(dt)
+    s.SetTriangleBudget(budget)
+    offset, angle, dist = movement(scene, kind, -2 * dt, distance)
+    prev = scene.set_view(dist, offset, angle)
+    values, triangles, times, counted = [], [], [], []
+    for k in range(instants + 1):
+        offset, angle, dist = movement(scene, kind, (k - 1) * dt, distance)
+        ov = scene.set_view(dist, offset, angle)
+        s.SetObjectToViewMatrix(ov)
+        s.SetPreviousObjectToViewMatrix(prev)
+        s.HasPreviousFrameOn()
+        s.SetPreviousFrameTime(dt)
+        data, tris, sel, pat = scene.lod()
+        img, rms = scene.render(data)
+        values.append(metrics.psnr(references[k], img))
+        triangles.append(tris)
+        times.append(sel + pat + rms)
+        counted.append(s.GetNumberOfBudgetTriangles())
+        prev = ov
+    s.SetTriangleBudget(0)
+    finite = [v for v in values if math.isfinite(v)]
+    return (float(np.mean(finite)) if finite else float('inf'),
+            float(np.std(finite)) if finite else float('nan'),
+            float(np.mean(triangles)), float(np.mean(times)), float(np.mean(counted)))
+
+
+def calibrated_constants(rows):
+    """{(model, movement, dt, method): constant} from the time-matched protocol's rows."""
+    return {(r['model'], r['movement'], round(float(r['dt']), 6), r['method']): float(r['constant'])
+            for r in rows if r['method'] in VELOCITY_METHODS and math.isfinite(float(r['constant']))}
+
+
+def moving_budget_protocol(scene, distance, instants, writer, dts=(1 / 30, 1 / 60, 1 / 120),
+                           fractions=(1.0, 0.5), constants=None):
+    """The moving protocol at equal triangle budgets (issue 14): for each movement and dt, TMM at
+    its tolerance sets the budget (its mean triangle count as the selector counts it, the budget's
+    unit, times each of `fractions`); then TMM, SRCC and the velocity methods each draw every frame
+    within that budget. Rows: the tolerance run (`method` 'TMM', budget 0) and one per method and
+    budget."""
+    rows = []
+    constants = constants or {}
+    started = time.time()
+    for kind in ('T', 'Z', 'R'):
+        for dt in dts:
+            print(f'    {scene.name} {kind} dt 1/{round(1 / dt)} ({time.time() - started:.0f} s)', flush=True)
+            refs = []
+            for k in range(instants + 1):
+                offset, angle, dist = movement(scene, kind, k * dt, distance)
+                scene.set_view(dist, offset, angle)
+                refs.append(scene.render(scene.full)[0])
+
+            def emit(method, budget, result, constant=float('nan')):
+                p, sd, tris, ms, counted = result
+                row = dict(model=scene.name, movement=kind, dt=dt, budget=budget, method=method,
+                           mean_psnr=p, std_psnr=sd, mean_triangles=tris, mean_counted=counted,
+                           mean_frame_ms=ms, constant=constant)
+                writer.writerow(row)
+                rows.append(row)
+            tolerance = moving_at_budget(scene, 'TMM', kind, dt, distance, instants, refs, 0)
+            emit('TMM', 0, tolerance)
+            for fraction in fractions:
+                budget = max(1, int(round(fraction * tolerance[4])))
+                for name in ('TMM', 'SRCC') + VELOCITY_METHODS:
+                    constant = constants.get((scene.name, kind, round(dt, 6), name))
+                    result = moving_at_budget(scene, name, kind, dt, distance, instants, refs, budget,
+                                              speed=constant)
+                    if constant is None and name in VELOCITY_METHODS:
+                        s = scene.selector
+                        constant = (s.GetInverseVelocitySpeed() if name.startswith('IPV')
+                                    else s.GetDirectVelocitySpeed())
+                    emit(name, budget, result, float('nan') if constant is None else constant)
+    return rows
+
+
 def zhu(scene, path_levels, writer, steps=8):
     """Zhu's PM = VPs / TPs over distance from d_1 = R / sin(theta/2), for the full model (the
     first mesh) and the given meshes. TPs is the object's pixel count at d_1, one constant per
@@ -898,14 +1002,20 @@ def pm_levels(zhu_rows, levels=(0.5, 0.25, 0.1)):
     return out
 
 
+SECTIONS = ('still', 'frontier', 'distance', 'speed', 'moving', 'moving-budget', 'zhu')
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--out', default='docs/results')
     parser.add_argument('--data', default=os.path.join(os.path.dirname(__file__), '..', '..', '..', 'shared', 'data'))
     parser.add_argument('--quick', action='store_true', help='small generated model, few frames')
     parser.add_argument('--page-only', action='store_true', help='rewrite the page from the CSV files')
-    parser.add_argument('--sections', default='still,frontier,distance,speed,moving,zhu',
+    parser.add_argument('--sections', default=','.join(SECTIONS),
                         help='comma-separated sections to measure; the others keep their CSV files')
+    parser.add_argument('--models', default=None,
+                        help='comma-separated models to measure (bunny, bunny-scans, generated1M; '
+                             'quick: quick); default all')
     args = parser.parse_args()
     if args.page_only:
         write_page(args.out)
@@ -914,25 +1024,37 @@ def main():
     started = time.time()
 
     scenes = []
+    wanted = set(args.models.split(',')) if args.models else None
+
+    def add(name, make, *options, **keywords):
+        if wanted is None or name in wanted:
+            scenes.append(Scene(name, make(), *options, **keywords))
     if args.quick:
         size = (240, 180)
-        scenes.append(Scene('quick', generated_model(60), size, level=6))
+        add('quick', lambda: generated_model(60), size, level=6)
         instants, dists, scales = 6, [2.5, 5.0], [0.5, 2.0]
     else:
         size = (640, 480)
         if os.path.exists(os.path.join(args.data, 'bun_zipper.ply')):
-            scenes.append(Scene('bunny', read_ply(os.path.join(args.data, 'bun_zipper.ply')), size, level=8))
-            scenes.append(Scene('bunny-scans', bunny_scans(args.data), size, cloud=True))
+            add('bunny', lambda: read_ply(os.path.join(args.data, 'bun_zipper.ply')), size, level=8)
+            add('bunny-scans', lambda: bunny_scans(args.data), size, cloud=True)
         else:
             print('../shared/data not found: the Stanford models are skipped')
-        scenes.append(Scene('generated1M', generated_model(710), size, level=9))
+        add('generated1M', lambda: generated_model(710), size, level=9)
         instants, dists, scales = 30, [1.0, 2.0, 4.0], [0.25, 0.5, 1, 2, 4, 8]
 
     sections = set(args.sections.split(','))
     if 'moving' in sections:
         sections.add('frames')
-    files = {k: open(os.path.join(args.out, k + '.csv'), 'w', newline='') for k in
-             ('still', 'frontier', 'distance', 'speed', 'moving', 'frames', 'zhu') if k in sections}
+    unknown = sections - set(SECTIONS) - {'frames'}
+    if unknown:
+        parser.error('unknown sections: ' + ', '.join(sorted(unknown)))
+    # the time-matched protocol's calibrated speed constants, for the budget protocol: this run's
+    # when it measures them too, else those in moving.csv
+    constants = calibrated_constants(read_rows(args.out, 'moving')) if 'moving' not in sections else {}
+    files = {k: open(os.path.join(args.out, k.replace('-', '_') + '.csv'), 'w', newline='') for k in
+             ('still', 'frontier', 'distance', 'speed', 'moving', 'frames', 'moving-budget', 'zhu')
+             if k in sections}
     fields = {
         'still': ['model', 'distance', 'method', 'triangles', 'full_triangles', 'tolerance', 'select_ms',
                   'patch_ms', 'render_ms', 'full_render_ms', 'psnr', 'ssim'],
@@ -943,6 +1065,8 @@ def main():
                   'patch_ms', 'render_ms', 'constant'],
         'moving': ['model', 'movement', 'dt', 'method', 'mean_psnr', 'std_psnr', 'mean_frame_ms',
                    'mean_triangles', 'constant'],
+        'moving-budget': ['model', 'movement', 'dt', 'budget', 'method', 'mean_psnr', 'std_psnr',
+                          'mean_triangles', 'mean_counted', 'mean_frame_ms', 'constant'],
         'zhu': ['model', 'mesh', 'triangles', 'distance', 'distance_over_d1', 'pm', 'vps', 'tps',
                 'object_pixels'],
         'frames': ['model', 'movement', 'dt', 'method', 'instant', 'time', 'shown_started', 'lag_ms',
@@ -973,6 +1097,12 @@ def main():
                                                   dts=(1 / 60,) if args.quick else (1 / 30, 1 / 60, 1 / 120),
                                                   frame_writer=writers['frames'],
                                                   preroll=0.05 if args.quick else 0.25)
+            constants.update(calibrated_constants(all_rows['moving']))
+        if 'moving-budget' in sections:
+            print(f'[{time.time() - started:6.0f} s] {scene.name}: moving images at equal budgets', flush=True)
+            all_rows['moving-budget'] += moving_budget_protocol(
+                scene, d1 * 1.5, instants, writers['moving-budget'],
+                dts=(1 / 60,) if args.quick else (1 / 30, 1 / 60, 1 / 120), constants=constants)
         if 'zhu' not in sections:
             pass
         elif scene.name == 'bunny':
@@ -989,7 +1119,9 @@ def main():
             f.flush()
     for f in files.values():
         f.close()
-    write_page(args.out, time.time() - started, size)
+    partial = set(SECTIONS) - sections or wanted is not None
+    write_page(args.out, time.time() - started, size,
+               measured=sorted(sections - {'frames'}) if partial else None)
 
 
 def read_rows(out, name):
@@ -1044,6 +1176,12 @@ def claims(rows):
                 lines.append(f'| TMM Table 2 | mean PSNR of moving images: TMM > {ipv} > {dpv} (same mean frame '
                              f'time; {form}) | {model}: TMM best in {tmm_best} (ahead by more than a standard '
                              f'deviation in {apart}), full order in {order} | {order} of {cases} (movement, dt) |')
+    # TMM Table 2 again, at equal triangle budgets (issue 14): the ordering of each method alone
+    for line in budget_summary(rows.get('moving-budget', [])):
+        lines.append(f'| TMM Table 2 at equal triangle budgets (issue 14) | TMM has the best mean PSNR of moving '
+                     f'images | {line["model"]}, budget {line["budget"]}: TMM − SRCC {line["tmm_minus_srcc"]} dB, '
+                     f'TMM − best velocity method {line["tmm_minus_best_velocity"]} dB (min / mean / max) | '
+                     f'{line["tmm_best"]} (movement, dt) |')
     # SRCC Fig. 19: fewer triangles farther away
     for model in sorted({r['model'] for r in rows['distance']}):
         rs = [r for r in rows['distance'] if r['model'] == model and r['method'] == 'SRCC']
@@ -1075,12 +1213,84 @@ def claims(rows):
     return '\n'.join(lines)
 
 
-def write_page(out, seconds=None, size=None):
+def budget_pivot(rows):
+    """The moving-budget rows as one line per (model, movement, dt, budget): each method's mean
+    PSNR and standard deviation, TMM at its tolerance beside, and the best method."""
+    out = []
+    keys = []
+    for r in rows:
+        key = (r['model'], r['movement'], r['dt'])
+        if key not in keys:
+            keys.append(key)
+    for key in keys:
+        at = [r for r in rows if (r['model'], r['movement'], r['dt']) == key]
+        tol = [r for r in at if r['budget'] == 0]
+        for budget in sorted({r['budget'] for r in at if r['budget'] > 0}, reverse=True):
+            line = dict(model=key[0], movement=key[1], dt=f'1/{round(1 / key[2])}', budget=f'{budget:.0f}')
+            if tol:
+                line['TMM at T_s = 1'] = f'{tol[0]["mean_psnr"]:.2f} ± {tol[0]["std_psnr"]:.2f}'
+            means = {}
+            for r in at:
+                if r['budget'] == budget:
+                    means[r['method']] = r['mean_psnr']
+                    line[r['method']] = f'{r["mean_psnr"]:.2f} ± {r["std_psnr"]:.2f}'
+            line['best'] = max(means, key=means.get) if means else ''
+            line['TMM - SRCC'] = f'{means["TMM"] - means["SRCC"]:+.2f}' if {'TMM', 'SRCC'} <= set(means) else ''
+            out.append(line)
+    return out
+
+
+def budget_summary(rows):
+    """Per model and budget fraction: in how many (movement, dt) TMM has the best mean PSNR, and
+    its margin over SRCC and over the best velocity method (min, mean, max)."""
+    out = []
+    for model in sorted({r['model'] for r in rows}):
+        cases = {}
+        for r in rows:
+            if r['model'] != model or r['budget'] == 0:
+                continue
+            key = (r['movement'], r['dt'])
+            levels = sorted({x['budget'] for x in rows if x['model'] == model
+                             and (x['movement'], x['dt']) == key and x['budget'] > 0}, reverse=True)
+            cases.setdefault((levels.index(r['budget']), key), {})[r['method']] = r['mean_psnr']
+        for level in sorted({k[0] for k in cases}):
+            at = [m for k, m in cases.items() if k[0] == level and {'TMM', 'SRCC'} <= set(m)]
+            if not at:
+                continue
+            best = sum(m['TMM'] >= max(m.values()) for m in at)
+            vs_srcc = [m['TMM'] - m['SRCC'] for m in at]
+            vs_vel = [m['TMM'] - max(m[v] for v in VELOCITY_METHODS if v in m) for m in at
+                      if any(v in m for v in VELOCITY_METHODS)]
+            out.append(dict(model=model, budget='TMM\'s count' if level == 0 else 'half of it',
+                            tmm_best=f'{best} of {len(at)}',
+                            tmm_minus_srcc=f'{min(vs_srcc):+.2f} / {np.mean(vs_srcc):+.2f} / {max(vs_srcc):+.2f}',
+                            tmm_minus_best_velocity=(f'{min(vs_vel):+.2f} / {np.mean(vs_vel):+.2f} / '
+                                                     f'{max(vs_vel):+.2f}') if vs_vel else ''))
+    return out
+
+
+def write_page(out, seconds=None, size=None, measured=None):
+    """The results page from the CSV files. `measured`: the sections this run measured, when it
+    did not measure them all (the page keeps the last full run's time and says what was
+    re-measured since)."""
+    previous = ''
+    path = os.path.join(out, 'results.md')
+    if measured is not None and os.path.exists(path):
+        with open(path) as f:
+            for line in f:
+                if line.startswith('Run time '):
+                    previous = line.split('The CSV files')[0].split('Since then')[0]
+                    break
     rows = {k: read_rows(out, k) for k in ('still', 'frontier', 'distance', 'speed', 'moving', 'zhu')}
+    rows['moving-budget'] = read_rows(out, 'moving_budget')
     images = plots(out, rows['frontier'], rows['distance'], rows['speed'], rows['moving'], rows['zhu'])
     with open(os.path.join(out, 'results.md'), 'w') as page:
         page.write('# Measured results (generated by Testing/Quality/plod_measure.py)\n\n')
-        if seconds is not None:
+        if measured is not None:
+            page.write(previous)
+            if seconds is not None:
+                page.write(f'Since then, measured on their own: {", ".join(measured)} ({seconds:.0f} s). ')
+        elif seconds is not None:
             page.write(f'Run time {seconds:.0f} s; images {size[0]}x{size[1]}, offscreen Mesa llvmpipe. ')
         page.write('The CSV files beside this page hold every figure; `analysis.md` discusses '
                    'where we differ from the papers and why.\n\n')
@@ -1121,6 +1331,26 @@ def write_page(out, seconds=None, size=None):
         page.write(table(rows['moving'], ['model', 'movement', 'dt', 'method', 'mean_psnr', 'std_psnr',
                                           'mean_frame_ms', 'mean_triangles', 'constant'],
                          {'dt': '{:.4f}', 'mean_triangles': '{:.0f}', 'constant': '{:.3g}'}) + '\n\n')
+        if rows['moving-budget']:
+            methods = ['TMM', 'SRCC'] + list(VELOCITY_METHODS)
+            page.write('### The same movements at equal triangle budgets (issue 14)\n\n'
+                       '`--sections moving-budget`, `moving_budget.csv`. Every method draws each frame within '
+                       'the same TriangleBudget: TMM\'s mean triangle count at its tolerance (T_s = 1 px, '
+                       'column `TMM at T_s = 1`, on the same schedule), as the budget counts triangles (those '
+                       'the refined cells own, `mean_counted`: about twice what a closed model draws, '
+                       '`mean_triangles`), then half of it. The methods\' '
+                       'tolerances are 1/16 of the papers\' (T_s = 1/16 px, T_b = 1/4), a floor under which '
+                       'the budget refines in each method\'s own order of error over tolerance. Frames run '
+                       'at the display rate: the frame shown at k dt was drawn for the scene at (k - 1) dt, '
+                       'so no method gains or loses by its frame time. IPV and DPV keep the constants '
+                       'calibrated above (moving.csv). Mean ± standard deviation of PSNR over the display '
+                       'instants; `TMM - SRCC` in dB.\n\n')
+            page.write(table(budget_summary(rows['moving-budget']),
+                             ['model', 'budget', 'tmm_best', 'tmm_minus_srcc', 'tmm_minus_best_velocity'])
+                       + '\n\n(margins: min / mean / max over movements and dt, dB)\n\n')
+            page.write(table(budget_pivot(rows['moving-budget']),
+                             ['model', 'movement', 'dt', 'budget', 'TMM at T_s = 1'] + methods
+                             + ['best', 'TMM - SRCC']) + '\n\n')
         if rows['zhu']:
             page.write("## Zhu's perceptual metric: the distances where discrete levels switch\n\n"
                        "PM = VPs / TPs with TPs the object's pixel count at d_1 = R / sin(theta/2) (the "
