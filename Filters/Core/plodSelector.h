@@ -326,6 +326,7 @@ private:
     int32_t Node;
     uint32_t C[3];
     bool BrightnessOnly;
+    uint8_t Inside; // the frustum planes its parent lies wholly inside (bit i: plane i)
   };
   /// A refinement waiting in the budget walk's queue (a 4-ary max-heap of 16-byte items; the
   /// rest of the cell is in Waiting[Slot]). Order: its key (its priority, at most the key of
@@ -348,6 +349,7 @@ private:
     int32_t FirstChild;
     uint8_t ChildMask;
     uint8_t Level;
+    uint8_t Inside;              // the frustum planes it lies wholly inside
     bool ChildrenBrightnessOnly; // what its children are tested for
     bool Topology;               // refined only for its topology (TopologyRefined)
   };
