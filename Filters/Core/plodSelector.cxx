@@ -969,6 +969,7 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
   for (const Candidate& c : queue)
   {
     cut.Add(c.Node, CutDrawn, BudgetLimited);
+    stats.BudgetWaitingTriangles += waiting[c.Slot].Owned;
   }
   stats.BudgetTriangles = triangles;
   stats.BudgetBinding = !queue.empty() || triangles > in.TriangleBudget;

@@ -271,6 +271,11 @@ struct SelectionStats
   /// (the largest left in the cut) and the triangles it would have added; else 0.
   double BudgetRefusedPriority = 0;
   int64_t BudgetRefusedTriangles = 0;
+  /// The triangles that the refinements the budget left waiting would add, each made one level
+  /// (the refused one included); 0 when the budget did not stop refinement. BudgetTriangles
+  /// plus this is the tolerance cut's count when the budget does not bind, and a lower bound of
+  /// it when it does: what a process asks for when several share one budget.
+  int64_t BudgetWaitingTriangles = 0;
 };
 
 /// The difference of c(x) = max(0, cos x)^power over a cone: SRCC eq. (7) in one formula.

@@ -1177,7 +1177,9 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
   //   and stops at a refinement that would not have fitted (BudgetTriangles + its triangles >
   //   budget; with exactly that budget it is made and the count reaches it);
   // - a larger budget refines a superset of what a smaller one refines, and the refused
-  //   priority (the largest left in the cut) never rises.
+  //   priority (the largest left in the cut) never rises;
+  // - the waiting triangles (the refinements left in the queue, one level each) are 0 without
+  //   binding, else at least the refused refinement's and at most N minus the count.
   std::mt19937 rng(14);
   const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { 4.5, -2, 1.5 },
     { -1.2, 0.3, 1.9 } };
@@ -1231,6 +1233,7 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
               << what << ": budget " << budget << " >= " << N << " but not the tolerance cut";
             EXPECT_EQ(stats.Visited, tolerance.Visited) << what;
             EXPECT_EQ(stats.BudgetRefusedPriority, 0) << what;
+            EXPECT_EQ(stats.BudgetWaitingTriangles, 0) << what;
           }
           else
           {
@@ -1238,6 +1241,10 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
             EXPECT_TRUE(stats.BudgetBinding) << what << " " << budget;
             EXPECT_GT(stats.BudgetTriangles + stats.BudgetRefusedTriangles, budget) << what;
             EXPECT_GT(stats.BudgetRefusedPriority, 0) << what;
+            // the waiting refinements, one level each: at least the refused one, and a lower
+            // bound of the tolerance cut with what was refined
+            EXPECT_GE(stats.BudgetWaitingTriangles, stats.BudgetRefusedTriangles) << what;
+            EXPECT_LE(stats.BudgetTriangles + stats.BudgetWaitingTriangles, N) << what;
             for (int64_t n = 0; n < scene.View.NumberOfNodes; ++n)
             {
               ASSERT_FALSE(refined[n] && !refined0[n])
