@@ -134,6 +134,7 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , NumberOfTopologyRefinedNodes(0)
   , BudgetWasBinding(false)
   , NumberOfBudgetTriangles(0)
+  , NumberOfWaitingTriangles(0)
   , SelectTime(0.0)
   , Internal(new Internals)
 {
@@ -249,6 +250,7 @@ int vtkPerceptualLODSelector::RequestData(
     this->NumberOfOpenedLeaves = 0;
     this->BudgetWasBinding = false;
     this->NumberOfBudgetTriangles = 0;
+    this->NumberOfWaitingTriangles = 0;
     this->EmptyCutReason = "the octree is empty";
     return 1;
   }
@@ -554,6 +556,7 @@ int vtkPerceptualLODSelector::RequestData(
   this->NumberOfTopologyRefinedNodes = stats.TopologyRefined;
   this->BudgetWasBinding = stats.BudgetBinding;
   this->NumberOfBudgetTriangles = stats.BudgetTriangles;
+  this->NumberOfWaitingTriangles = stats.BudgetWaitingTriangles;
   return 1;
 }
 
@@ -609,5 +612,6 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
      << " in the cut, " << this->NumberOfDrawnNodes << " drawn, " << this->SelectTime * 1e3
      << " ms, object speed " << this->ObjectSpeed << " px, distance level " << this->DistanceLevel
      << ", " << this->NumberOfBudgetTriangles << " triangles"
-     << (this->BudgetWasBinding ? " (the budget was binding)" : "") << "\n";
+     << (this->BudgetWasBinding ? " (the budget was binding)" : "") << ", "
+     << this->NumberOfWaitingTriangles << " waiting\n";
 }

@@ -289,6 +289,12 @@ public:
   /// Triangles owned by the refined cells of the last cut (with or without a budget): what it
   /// draws at most, and with a budget at most TriangleBudget (unless the floors need more).
   vtkGetMacro(NumberOfBudgetTriangles, vtkIdType);
+  /// The triangles the refinements the budget left waiting would add, each made one level: the
+  /// cells drawn with CutReason 8, skipped ones included (0 when the budget did not bind).
+  /// NumberOfBudgetTriangles plus this is the tolerance cut's count when the budget does not bind,
+  /// and a lower bound of it when it does: what this selector asks for when several share one
+  /// budget (vtkPerceptualLODRepresentation under MPI).
+  vtkGetMacro(NumberOfWaitingTriangles, vtkIdType);
   ///@}
 
   enum BudgetStopRules
@@ -510,6 +516,7 @@ protected:
   vtkIdType NumberOfTopologyRefinedNodes;
   bool BudgetWasBinding;
   vtkIdType NumberOfBudgetTriangles;
+  vtkIdType NumberOfWaitingTriangles;
   std::string EmptyCutReason;
   double SelectTime;
 

@@ -212,6 +212,18 @@ void vtkPerceptualLODActor::Feed(vtkViewport* viewport)
   {
     return;
   }
+  vtkPerceptualLODRenderBinding* binding = this->MakeBinding(renderer);
+  binding->SetTargetFrameTime(this->TargetFrameTime);
+  binding->UpdateFrom(renderer, this);
+}
+
+//------------------------------------------------------------------------------
+vtkPerceptualLODRenderBinding* vtkPerceptualLODActor::MakeBinding(vtkRenderer* renderer)
+{
+  if (!renderer)
+  {
+    return nullptr;
+  }
   vtkPerceptualLODRenderBinding*& binding = this->Bindings[renderer];
   if (!binding)
   {
@@ -219,8 +231,7 @@ void vtkPerceptualLODActor::Feed(vtkViewport* viewport)
     binding->EnabledOff(); // no observer: the actor pushes while it renders
     binding->SetSelector(this->Selector);
   }
-  binding->SetTargetFrameTime(this->TargetFrameTime);
-  binding->UpdateFrom(renderer, this);
+  return binding;
 }
 
 //------------------------------------------------------------------------------

@@ -96,6 +96,13 @@ public:
   /// The binding that feeds the selector for `renderer` (null before it first rendered there).
   vtkPerceptualLODRenderBinding* GetBinding(vtkRenderer* renderer);
 
+  /**
+   * The binding for `renderer`, made now if the actor has not rendered there yet (as its first
+   * render there would make it). For an owner that configures the binding before the first
+   * render, or whether the actor renders at all (vtkPerceptualLODRepresentation under MPI).
+   */
+  vtkPerceptualLODRenderBinding* MakeBinding(vtkRenderer* renderer);
+
   /// True when the input is an octree (the builder is not used).
   bool GetInputIsOctree();
 

@@ -249,6 +249,35 @@ void vtkPerceptualLODRenderBinding::SetTargetFrameTime(double seconds)
 }
 
 //------------------------------------------------------------------------------
+double vtkPerceptualLODRenderBinding::TakeFrameCost()
+{
+  const double cost = this->FrameCostPending ? this->LastFrameCost : 0.0;
+  this->FrameCostPending = false;
+  return cost;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkPerceptualLODRenderBinding::StepBudget(double seconds, vtkIdType drawn, bool binding)
+{
+  if (!(this->TargetFrameTime > 0))
+  {
+    this->TargetBudget = 0;
+    return 0;
+  }
+  if (!(seconds > 0) && this->TargetBudget > 0)
+  {
+    return this->TargetBudget; // nothing new measured: the budget stays
+  }
+  plod::FrameTimeTarget target;
+  target.Target = this->TargetFrameTime;
+  target.MinimumBudget = this->MinimumTriangleBudget;
+  target.MaximumBudget = std::max(this->MinimumTriangleBudget, this->MaximumTriangleBudget);
+  this->TargetBudget = this->Internals->Controller.Update(
+    target, seconds > 0 ? seconds : 0.0, std::max<vtkIdType>(drawn, 0), binding);
+  return this->TargetBudget;
+}
+
+//------------------------------------------------------------------------------
 void vtkPerceptualLODRenderBinding::SteerBudget()
 {
   vtkPerceptualLODSelector* sel = this->Selector;
@@ -265,15 +294,8 @@ void vtkPerceptualLODRenderBinding::SteerBudget()
   {
     return; // no new measurement (the first frame, or a frame that did not finish)
   }
-  plod::FrameTimeTarget target;
-  target.Target = this->TargetFrameTime;
-  target.MinimumBudget = this->MinimumTriangleBudget;
-  target.MaximumBudget = std::max(this->MinimumTriangleBudget, this->MaximumTriangleBudget);
-  const double cost = this->FrameCostPending ? this->LastFrameCost : 0.0;
-  this->FrameCostPending = false;
-  const vtkIdType budget = this->Internals->Controller.Update(
-    target, cost, sel->GetNumberOfBudgetTriangles(), sel->GetBudgetWasBinding());
-  this->TargetBudget = budget;
+  const vtkIdType budget = this->StepBudget(
+    this->TakeFrameCost(), sel->GetNumberOfBudgetTriangles(), sel->GetBudgetWasBinding());
   // Modified() only on a change: a settled budget re-executes nothing
   sel->SetTriangleBudget(budget);
 }
@@ -432,7 +454,10 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
   this->HasPrevious = true;
 
   // ---- frame-time target ---------------------------------------------------------------------
-  this->SteerBudget();
+  if (!this->ExternalSteering)
+  {
+    this->SteerBudget();
+  }
   if (this->TargetFrameTime > 0)
   {
     this->WatchWindow(ren->GetRenderWindow());
@@ -459,4 +484,5 @@ void vtkPerceptualLODRenderBinding::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumTriangleBudget: " << this->MaximumTriangleBudget << "\n";
   os << indent << "LastFrameCost: " << this->LastFrameCost << " s\n";
   os << indent << "TargetBudget: " << this->TargetBudget << "\n";
+  os << indent << "ExternalSteering: " << (this->ExternalSteering ? "On" : "Off") << "\n";
 }

@@ -35,6 +35,13 @@
  *   drawn as without a budget, and motion models keep lowering detail during motion. Turning
  *   the target off sets the budget back to 0 (off). A budget you set yourself is left alone
  *   while the target is off.
+ * - **steering by the owner** (ExternalSteering, off by default): for processes that draw one
+ *   image together (vtkPerceptualLODRepresentation under MPI, where the composited frame is as
+ *   slow as the slowest process). A push then still measures the frame, but neither steers nor
+ *   sets the selector's budget. Once per frame, on every process, the owner takes the measured
+ *   cost (TakeFrameCost), combines it with the other processes' figures, makes the controller's
+ *   step with the combined figures (StepBudget) and gives the selector its part of the budget
+ *   returned. The controller is this one, with the same law: only its inputs change.
  *
  * @warning The LOD output holds only what the current view draws, so its bounds change with the
  * view. Reset cameras and clipping ranges with the model's bounds
@@ -112,6 +119,32 @@ public:
   vtkGetMacro(TargetBudget, vtkIdType);
   ///@}
 
+  ///@{
+  /**
+   * Steering by the owner (default off; see the class documentation). On, a push measures the
+   * frame but does not steer; the owner calls TakeFrameCost() and StepBudget() once per frame
+   * and sets the selector's budget. It must set the target here too (SetTargetFrameTime), so
+   * that all processes reset their controllers at the same frame.
+   */
+  vtkSetMacro(ExternalSteering, bool);
+  vtkGetMacro(ExternalSteering, bool);
+  vtkBooleanMacro(ExternalSteering, bool);
+  ///@}
+
+  /// The cost of the last frame measured and not yet steered with (s), which is then forgotten;
+  /// 0 when there is none (the first frame, a frame that did not finish, or one already used).
+  double TakeFrameCost();
+
+  /**
+   * One step of the frame-time target's controller (plod::BudgetController), as a push makes
+   * with this binding's own figures: `seconds`, the frame's cost (0: nothing new measured; the
+   * budget stays), `drawn`, the triangles the selector counted (vtkPerceptualLODSelector::
+   * GetNumberOfBudgetTriangles) and `binding`, whether the budget stopped the cut. Returns the
+   * budget for the next frame, also TargetBudget (0 when the target is off). Does not set the
+   * selector's budget: that is the caller's (with ExternalSteering on).
+   */
+  vtkIdType StepBudget(double seconds, vtkIdType drawn, bool binding);
+
   /// Pushes the renderer's current state to the selector now (what StartEvent does).
   void Update();
 
@@ -167,6 +200,7 @@ protected:
   bool FrameCostPending = false;
   bool FrameStarted = false;
   vtkIdType TargetBudget = 0;
+  bool ExternalSteering = false;
   vtkCallbackCommand* WindowObserver = nullptr;
   vtkRenderWindow* Window = nullptr; // observed, not held (see WatchWindow)
   unsigned long WindowTag = 0;

@@ -314,6 +314,12 @@ struct SelectionStats
   /// added; else 0.
   double BudgetRefusedPriority = 0;
   int64_t BudgetRefusedTriangles = 0;
+  /// The triangles that the refinements the budget left waiting would add, each made one level
+  /// (the refused one included, and with SkipMisfits every one skipped: the cells drawn as
+  /// BudgetLimited); 0 when the budget did not stop refinement. BudgetTriangles
+  /// plus this is the tolerance cut's count when the budget does not bind, and a lower bound of
+  /// it when it does: what a process asks for when several share one budget.
+  int64_t BudgetWaitingTriangles = 0;
 };
 
 /// The difference of c(x) = max(0, cos x)^power over a cone: SRCC eq. (7) in one formula.
@@ -369,6 +375,7 @@ private:
     int32_t Node;
     uint32_t C[3];
     bool BrightnessOnly;
+    uint8_t Inside; // the frustum planes its parent lies wholly inside (bit i: plane i)
   };
   /// A refinement waiting in the budget walk's queue (a 4-ary max-heap of 16-byte items; the
   /// rest of the cell is in Waiting[Slot]). Order: its key (its priority, at most the key of
@@ -391,6 +398,7 @@ private:
     int32_t FirstChild;
     uint8_t ChildMask;
     uint8_t Level;
+    uint8_t Inside;              // the frustum planes it lies wholly inside
     bool ChildrenBrightnessOnly; // what its children are tested for
     bool Topology;               // refined only for its topology (TopologyRefined)
   };

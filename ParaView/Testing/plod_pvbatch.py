@@ -3,6 +3,7 @@
     pvbatch plod_pvbatch.py one-rank <out dir>
     pvbatch plod_pvbatch.py octree <out dir>
     mpiexec -np 2 pvbatch --symmetric plod_pvbatch.py two-ranks <out dir>
+    mpiexec -np 2 pvbatch --symmetric plod_pvbatch.py two-ranks-frame-time <out dir>
     pvbatch plod_pvbatch.py screenshot <png> [model.ply]
 
 The scene is generated (no data files): ParaView's Wavelet source contoured at one value, a
@@ -415,6 +416,174 @@ def two_ranks(out):
     print("two ranks: ok", flush=True)
 
 
+def gather(values):
+    """Every rank's `values` (numbers), in rank order: one AllGather, made by every rank."""
+    from vtkmodules.vtkCommonCore import vtkDoubleArray
+    send, received = vtkDoubleArray(), vtkDoubleArray()
+    send.SetNumberOfTuples(len(values))
+    for i, v in enumerate(values):
+        send.SetValue(i, float(v))
+    controller().AllGather(send, received)
+    n = len(values)
+    return [[received.GetValue(r * n + i) for i in range(n)] for r in range(rank_and_size()[1])]
+
+
+FRAME_FIGURES = ("SharedFrameCost", "LocalFrameCost", "TotalTriangleBudget", "RankTriangleBudget",
+                 "NumberOfBudgetTriangles", "NumberOfTriangles", "NumberOfFrameReductions",
+                 "NumberOfSelections")
+
+
+def frame_figures(lod):
+    """This frame's figures of every rank: a list (one dict per rank)."""
+    rows = gather([lod.get(name) for name in FRAME_FIGURES])
+    return [dict(zip(FRAME_FIGURES, row)) for row in rows]
+
+
+def check_shared_frame(rows, what):
+    """The checks made on every frame with several ranks: the same steering frame cost and total
+    budget on every rank, the ranks' parts and the triangles within the total."""
+    costs = {row["SharedFrameCost"] for row in rows}
+    totals = {row["TotalTriangleBudget"] for row in rows}
+    if len(costs) != 1:
+        fail("%s: the ranks steer with different frame costs %s" % (what, sorted(costs)))
+    if len(totals) != 1:
+        fail("%s: the ranks hold different total budgets %s" % (what, sorted(totals)))
+    total = totals.pop()
+    parts = sum(row["RankTriangleBudget"] for row in rows)
+    counted = sum(row["NumberOfBudgetTriangles"] for row in rows)
+    drawn = sum(row["NumberOfTriangles"] for row in rows)
+    if total > 0 and not (parts <= total and counted <= total and drawn <= total):
+        fail("%s: over the total budget %d: parts %d, counted %d, drawn %d triangles"
+             % (what, total, parts, counted, drawn))
+    return total, counted, drawn
+
+
+def two_ranks_frame_time(out):
+    """mpiexec -np 2 pvbatch --symmetric: the budget and the frame-time target shared by ranks.
+    - TriangleBudget is the view's total: the ranks' parts, the triangles their selectors count
+      and those they draw stay within it, the split settles (a still view selects nothing
+      again), and 0 gives the tolerance cut again;
+    - with TargetFrameTime set, every frame, both ranks steer with the same frame cost (the
+      maximum over ranks) and hold the same total budget, and the triangles stay within it;
+    - one rank made to look slow (TestingExtraFrameCost on TestingSlowRank 1) lowers both
+      ranks' budgets, though rank 0's own frames are far faster than the target;
+    - with one rank's actor culled (its piece outside the view), both go on exchanging;
+    - the representation's collectives are as many on every rank: one per render."""
+    rank, size = rank_and_size()
+    if size < 2:
+        fail("run with mpiexec -np 2 pvbatch --symmetric")
+    view, contour, display = scene()
+    lod = LOD(display)
+    ResetCamera(view)
+    renders = 0
+
+    def render(what):
+        nonlocal renders
+        Render(view)
+        renders += 1
+        rows = frame_figures(lod)
+        return rows, check_shared_frame(rows, what)
+
+    rows, (_, tolerance_counted, tolerance_drawn) = render("tolerance cut")
+    # (paraview.simple renders the first render twice, the camera reset between)
+    first_reductions, renders = rows[0]["NumberOfFrameReductions"], 0
+    say("tolerance cut: %s counted, %s drawn" % ([r["NumberOfBudgetTriangles"] for r in rows],
+                                                 [r["NumberOfTriangles"] for r in rows]))
+    # the fixed budget: a third of the tolerance cut, in the whole view
+    budget = int(tolerance_counted // 3)
+    display.TriangleBudget = budget
+    selections = []
+    for frame in range(5):
+        rows, (total, counted, drawn) = render("TriangleBudget %d, frame %d" % (budget, frame))
+        check(total == budget, "TriangleBudget %d is the view's total (%d)" % (budget, total))
+        selections.append([r["NumberOfSelections"] for r in rows])
+    check(selections[-1] == selections[-3], "the split settles: a still view selects nothing "
+          "again (selections per rank and frame: %s)" % selections)
+    parts = [r["RankTriangleBudget"] for r in rows]
+    check(counted > 0.9 * budget and drawn > 0.5 * budget,
+          "TriangleBudget %d split %s between the ranks: %d counted, %d drawn in all"
+          % (budget, parts, counted, drawn))
+    display.TriangleBudget = 0
+    rows, (_, counted, drawn) = render("no budget")
+    check(drawn == tolerance_drawn, "no budget: the tolerance cut again (%d)" % drawn)
+
+    # a frame-time target far above what frames cost: the budget rises to the tolerance cut
+    target = 10.0
+    display.TargetFrameTime = target
+    first = []
+    for frame in range(5):
+        rows, (total, counted, drawn) = render("target %g s, frame %d" % (target, frame))
+        first.append((rows[0]["SharedFrameCost"], total))
+    say("target %g s: (shared frame cost, total budget) per frame %s" % (target, first))
+    check(total >= counted and drawn == tolerance_drawn,
+          "a target far above the frame costs draws the tolerance cut (%d of budget %d)"
+          % (drawn, total))
+    local0 = rows[0]["LocalFrameCost"]
+    check(0 < local0 < target, "rank 0's own frames cost %.3f s" % local0)
+
+    # rank 1 looks slow: its frames count 2 targets more than they cost (set alike on every
+    # rank: a property changed on one rank only makes that rank alone update the view)
+    display.TestingSlowRank = 1
+    display.TestingExtraFrameCost = 2 * target
+    slowed = []
+    for frame in range(8):
+        rows, (total, counted, drawn) = render("rank 1 slowed, frame %d" % frame)
+        slowed.append((rows[0]["SharedFrameCost"], total, rows[0]["RankTriangleBudget"],
+                       rows[1]["RankTriangleBudget"], counted, drawn,
+                       rows[0]["LocalFrameCost"]))
+    for row in slowed:
+        say("rank 1 slowed: shared cost %.3f s, total %d, parts %d + %d, counted %d, drawn %d, "
+            "rank 0's own frame %.3f s" % row)
+    check(all(row[0] >= 2 * target for row in slowed),
+          "both ranks steer with rank 1's slow frames (shared cost >= %g s)" % (2 * target))
+    check(all(row[6] < target for row in slowed),
+          "rank 0's own frames stay below the target (at most %.3f s)"
+          % max(row[6] for row in slowed))
+    totals = [row[1] for row in slowed]
+    # the median of three frames moves one frame after the first slow one, then every frame
+    check(all(b < a for a, b in zip(totals, totals[1:])) and totals[-1] < 0.5 * totals[0],
+          "the total budget falls with the slowest rank's frames: %s" % totals)
+    part0 = [row[2] for row in slowed]
+    check(part0[-1] < 0.5 * part0[0],
+          "rank 0's part falls too, though its own frames are fast: %s" % part0)
+
+    # a view of one corner of the model from the side, through a narrow angle: a rank whose
+    # piece lies outside the frustum has its actor culled by the renderer, so it does not push
+    # and could not take part in a collective made while rendering. The exchange at
+    # REQUEST_RENDER goes on, the same on both ranks.
+    camera = GetActiveCamera()
+    saved = (camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(),
+             camera.GetViewAngle())
+    b = contour.GetDataInformation().GetBounds()
+    corner = np.array([b[0], b[2], b[4]])
+    side = np.array([-1.0, 1.0, 0.0]) / np.sqrt(2.0)
+    camera.SetFocalPoint(*corner)
+    camera.SetPosition(*(corner + (b[1] - b[0]) * side))
+    camera.SetViewUp(0, 0, 1)
+    camera.SetViewAngle(10)
+    for frame in range(3):
+        rows, _ = render("one rank culled, frame %d" % frame)
+        follows = gather([1.0 if np.allclose(lod.GetSelectorEye(), camera.GetPosition()) else 0.0])
+    check(sorted(f[0] for f in follows) == [0.0, 1.0],
+          "one rank's actor is culled, the other renders (selector eyes following the camera: "
+          "%s), and both keep exchanging" % [f[0] for f in follows])
+    camera.SetPosition(*saved[0])
+    camera.SetFocalPoint(*saved[1])
+    camera.SetViewUp(*saved[2])
+    camera.SetViewAngle(saved[3])
+
+    # the representation's collectives: as many on every rank, one per render
+    reductions = [r["NumberOfFrameReductions"] for r in rows]
+    check(len(set(reductions)) == 1 and reductions[0] - first_reductions == renders,
+          "one reduction per render on every rank (%s, %d for the %d renders since the first)"
+          % (reductions, reductions[0] - first_reductions, renders))
+    display.TestingExtraFrameCost = 0
+    display.TargetFrameTime = 0
+    rows, (_, counted, drawn) = render("target off")
+    check(drawn == tolerance_drawn, "the target off: the tolerance cut again (%d)" % drawn)
+    print("two ranks frame time: ok", flush=True)
+
+
 def client(out, port):
     """A client (ParaView's Python) connected to `mpiexec -np 2 pvserver` on localhost:`port`:
     the server ranks render (the representation asks for distributed rendering), the client
@@ -478,6 +647,6 @@ def screenshot(path, model=None):
 
 if __name__ == "__main__":
     mode, target = sys.argv[1], sys.argv[2]
-    {"one-rank": one_rank, "two-ranks": two_ranks, "octree": octree_filters, "client": client,
-     "screenshot": screenshot}[mode](
+    {"one-rank": one_rank, "two-ranks": two_ranks, "two-ranks-frame-time": two_ranks_frame_time,
+     "octree": octree_filters, "client": client, "screenshot": screenshot}[mode](
         target, *sys.argv[3:])

@@ -1089,6 +1089,15 @@ struct BudgetScene
     }
     return refined;
   }
+  /// The triangles the cells left unrefined by the budget (BudgetLimited) own.
+  int64_t Limited() const
+  {
+    int64_t sum = 0;
+    for (int64_t n = 0; n < this->View.NumberOfNodes; ++n)
+      if (this->State[n] != plod::NotInCut && this->Reason[n] == plod::BudgetLimited)
+        sum += this->View.TriangleEnd(n) - this->View.FirstTriangle[n];
+    return sum;
+  }
   /// The triangles the refined nodes own, counted here from the octree's arrays.
   int64_t Owned(const std::vector<uint8_t>& refined) const
   {
@@ -1178,6 +1187,9 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
   //   budget; with exactly that budget it is made and the count reaches it);
   // - with the stop rule StopAtFirstMisfit, a larger budget refines a superset of what a smaller
   //   one refines, and the refused priority (the largest left in the cut) never rises;
+  // - the waiting triangles (the refinements left unrefined, one level each) are 0 without
+  //   binding, else at least the refused refinement's and at most N minus the count, and they
+  //   are what the BudgetLimited cells own (recounted), with either rule;
   // - with SkipMisfits, at the same budget: the count is exact and within the budget; it refines
   //   a superset of what the stop rule refines (so it fills at least as much), only cells the
   //   tolerances refine, and refuses first the same refinement (same priority and triangles: the
@@ -1239,6 +1251,7 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
               << what << ": budget " << budget << " >= " << N << " but not the tolerance cut";
             EXPECT_EQ(stats.Visited, tolerance.Visited) << what;
             EXPECT_EQ(stats.BudgetRefusedPriority, 0) << what;
+            EXPECT_EQ(stats.BudgetWaitingTriangles, 0) << what;
           }
           else
           {
@@ -1246,6 +1259,11 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
             EXPECT_TRUE(stats.BudgetBinding) << what << " " << budget;
             EXPECT_GT(stats.BudgetTriangles + stats.BudgetRefusedTriangles, budget) << what;
             EXPECT_GT(stats.BudgetRefusedPriority, 0) << what;
+            // the waiting refinements, one level each: at least the refused one, and a lower
+            // bound of the tolerance cut with what was refined
+            EXPECT_GE(stats.BudgetWaitingTriangles, stats.BudgetRefusedTriangles) << what;
+            EXPECT_LE(stats.BudgetTriangles + stats.BudgetWaitingTriangles, N) << what;
+            EXPECT_EQ(stats.BudgetWaitingTriangles, scene.Limited()) << what;
             for (int64_t n = 0; n < scene.View.NumberOfNodes; ++n)
             {
               ASSERT_FALSE(refined[n] && !refined0[n])
@@ -1291,6 +1309,9 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
           EXPECT_EQ(skip.BudgetRefusedTriangles, stats.BudgetRefusedTriangles) << at;
           EXPECT_LE(skip.BudgetRefusedPriority, previousSkipRefused) << at;
           previousSkipRefused = skip.BudgetRefusedPriority;
+          EXPECT_EQ(skip.BudgetWaitingTriangles, scene.Limited()) << at;
+          EXPECT_LE(skip.BudgetTriangles + skip.BudgetWaitingTriangles, N) << at;
+          EXPECT_GE(skip.BudgetWaitingTriangles, skip.BudgetRefusedTriangles) << at;
           if (budget >= N)
           {
             EXPECT_TRUE(scene.State == state0 && scene.Reason == reason0 && scene.Mask == mask0)

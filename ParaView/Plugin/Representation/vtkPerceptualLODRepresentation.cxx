@@ -18,12 +18,15 @@
 #include "vtkPVView.h"
 #include "vtkPerceptualLODActor.h"
 #include "vtkPerceptualLODRedistribution.h"
+#include "vtkPerceptualLODRenderBinding.h"
 #include "vtkPerceptualLODSelector.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numeric>
 
 vtkStandardNewMacro(vtkPerceptualLODRepresentation);
 
@@ -226,7 +229,160 @@ int vtkPerceptualLODRepresentation::ProcessViewRequest(
     vtkPVRenderView::SetRequiresDistributedRendering(inInfo, this, true);
     vtkPVRenderView::SetRequiresDistributedRenderingLOD(inInfo, this, true);
   }
+  else if (request == vtkPVView::REQUEST_RENDER())
+  {
+    // Every rendering process makes this pass before the render window renders, for every
+    // visible representation, whether its actor then draws or is culled: the place where all
+    // ranks can exchange, once per render and in the same order.
+    this->ShareFrame(vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW())));
+  }
   return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRepresentation::ShareFrame(vtkPVRenderView* view)
+{
+  vtkRenderer* renderer = view ? view->GetRenderer() : nullptr;
+  vtkPerceptualLODRenderBinding* binding = this->Actor->MakeBinding(renderer);
+  this->Binding = binding;
+  const int ranks = this->GetNumberOfRanks();
+  if (!binding || ranks < 2)
+  {
+    // one process: the binding steers at each push, as for vtkPerceptualLODActor alone
+    if (binding)
+    {
+      binding->ExternalSteeringOff();
+    }
+    this->Sharing = false;
+    return;
+  }
+  // The ranks share a frame only when every one of them renders it: distributed rendering for
+  // still and interactive renders (this representation asks for both, but another one can ask
+  // for local rendering). vtkPVRenderView::Update decides both flags from figures reduced over
+  // the ranks, so every rank takes the same branch.
+  const bool shared =
+    view->GetUseDistributedRenderingForRender() && view->GetUseDistributedRenderingForLODRender();
+  const double target = this->Actor->GetTargetFrameTime();
+  if (shared && !this->Sharing)
+  {
+    // start from the same state on every rank: a new controller (a target that changes resets
+    // it), an even split
+    binding->SetTargetFrameTime(0);
+    binding->StepBudget(0, 0, false);
+    this->Shares.clear();
+  }
+  this->Sharing = shared;
+  // here rather than at the push, which a rank whose actor is culled does not make: every rank
+  // resets its controller at the same frame
+  binding->SetTargetFrameTime(target);
+  binding->SetExternalSteering(shared);
+  vtkPerceptualLODSelector* selector = this->Actor->GetSelector();
+  if (!(target > 0))
+  {
+    binding->StepBudget(0, 0, false); // forgets a steered budget: the push leaves ours alone
+  }
+  if (!shared)
+  {
+    // nothing exchanged: each rank steers from its own frames; a fixed budget is split evenly
+    this->Shares.assign(ranks, 1.0 / ranks);
+    this->SharesFromDemand = false;
+    this->TotalTriangleBudget = target > 0 ? 0 : this->TriangleBudget;
+    this->SharedFrameCost = binding->GetLastFrameCost();
+    if (!(target > 0))
+    {
+      selector->SetTriangleBudget(this->PartOfBudget(this->TriangleBudget));
+    }
+    return;
+  }
+
+  // One collective per render, on every rank: this rank's figures, gathered in rank order.
+  // The figures are small whole numbers and times, and every rank reduces the same table in the
+  // same order, so all get the same results, bit for bit.
+  double measured = binding->TakeFrameCost();
+  if (measured > 0 && (this->TestingSlowRank < 0 || this->TestingSlowRank == this->GetRank()))
+  {
+    measured += this->TestingExtraFrameCost;
+  }
+  constexpr int fields = 4;
+  const double mine[fields] = { measured,
+    double(selector->GetNumberOfBudgetTriangles() + selector->GetNumberOfWaitingTriangles()),
+    double(selector->GetNumberOfBudgetTriangles()), selector->GetBudgetWasBinding() ? 1.0 : 0.0 };
+  std::vector<double> all(static_cast<size_t>(fields) * ranks, 0.0);
+  this->Controller->AllGather(mine, all.data(), fields);
+  ++this->NumberOfFrameReductions;
+  double cost = 0, drawn = 0;
+  bool bound = false;
+  std::vector<double> demands(ranks);
+  for (int r = 0; r < ranks; ++r)
+  {
+    const double* figures = all.data() + static_cast<size_t>(fields) * r;
+    cost = std::max(cost, figures[0]);
+    demands[r] = figures[1];
+    drawn += figures[2];
+    bound = bound || figures[3] > 0;
+  }
+  this->SharedFrameCost = cost;
+  // the composited frame steers: the slowest rank's cost, the triangles of all ranks
+  const vtkIdType total = target > 0
+    ? binding->StepBudget(cost, static_cast<vtkIdType>(drawn), bound)
+    : this->TriangleBudget;
+  this->TotalTriangleBudget = total;
+  this->UpdateShares(demands);
+  selector->SetTriangleBudget(this->PartOfBudget(total));
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRepresentation::UpdateShares(const std::vector<double>& demands)
+{
+  const size_t n = demands.size();
+  const double sum = std::accumulate(demands.begin(), demands.end(), 0.0);
+  std::vector<double> wanted(n, 1.0 / double(n));
+  if (sum > 0)
+  {
+    for (size_t r = 0; r < n; ++r)
+    {
+      wanted[r] = demands[r] / sum;
+    }
+  }
+  if (this->Shares.size() != n || (!this->SharesFromDemand && sum > 0))
+  {
+    // the first demands measured: taken as they are
+    this->Shares = wanted;
+    this->SharesFromDemand = sum > 0;
+    return;
+  }
+  double moved = 0;
+  for (size_t r = 0; r < n; ++r)
+  {
+    moved += std::abs(wanted[r] - this->Shares[r]);
+  }
+  if (moved <= 0.05)
+  {
+    return; // dead band: at most 2.5 % of the budget would change hands
+  }
+  for (size_t r = 0; r < n; ++r)
+  {
+    this->Shares[r] = 0.5 * (this->Shares[r] + wanted[r]); // halfway: smoothly
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkPerceptualLODRepresentation::PartOfBudget(vtkIdType total)
+{
+  const int rank = this->GetRank();
+  const vtkIdType n = static_cast<vtkIdType>(this->Shares.size());
+  if (total <= 0 || n == 0 || rank < 0 || rank >= n)
+  {
+    return total > 0 ? total : 0;
+  }
+  if (total <= n)
+  {
+    return 1; // fewer triangles than ranks: the floors exceed it anyway
+  }
+  // 1 each (0 would mean no budget), the rest in proportion: the parts add up to at most total
+  const long double part = static_cast<long double>(total - n) * this->Shares[rank];
+  return 1 +
+    static_cast<vtkIdType>(std::floor(std::min(part, static_cast<long double>(total - n))));
 }
 
 //------------------------------------------------------------------------------
@@ -246,6 +402,8 @@ bool vtkPerceptualLODRepresentation::RemoveFromView(vtkView* view)
   if (auto renderView = vtkPVRenderView::SafeDownCast(view))
   {
     renderView->GetRenderer()->RemoveActor(this->Actor);
+    this->Binding = nullptr;
+    this->Sharing = false;
     return this->Superclass::RemoveFromView(view);
   }
   return false;
@@ -336,7 +494,12 @@ void vtkPerceptualLODRepresentation::SetTopologyTolerance(double pixels)
 }
 void vtkPerceptualLODRepresentation::SetTriangleBudget(vtkIdType triangles)
 {
-  this->Actor->GetSelector()->SetTriangleBudget(triangles);
+  this->TriangleBudget = std::max<vtkIdType>(triangles, 0);
+  if (this->GetNumberOfRanks() < 2)
+  {
+    this->Actor->GetSelector()->SetTriangleBudget(triangles);
+  }
+  // with several ranks: split at the next render (ShareFrame)
 }
 void vtkPerceptualLODRepresentation::SetTargetFrameTime(double seconds)
 {
@@ -400,6 +563,37 @@ vtkIdType vtkPerceptualLODRepresentation::GetNumberOfTriangles()
 {
   auto output = vtkPolyData::SafeDownCast(this->Actor->GetPatchGenerator()->GetOutputDataObject(0));
   return output ? output->GetNumberOfPolys() : 0;
+}
+
+//------------------------------------------------------------------------------
+double vtkPerceptualLODRepresentation::GetLocalFrameCost()
+{
+  return this->Binding ? this->Binding->GetLastFrameCost() : 0.0;
+}
+
+//------------------------------------------------------------------------------
+double vtkPerceptualLODRepresentation::GetSharedFrameCost()
+{
+  return this->GetNumberOfRanks() > 1 ? this->SharedFrameCost : this->GetLocalFrameCost();
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkPerceptualLODRepresentation::GetTotalTriangleBudget()
+{
+  return this->GetNumberOfRanks() > 1 ? this->TotalTriangleBudget
+                                      : this->Actor->GetSelector()->GetTriangleBudget();
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkPerceptualLODRepresentation::GetRankTriangleBudget()
+{
+  return this->Actor->GetSelector()->GetTriangleBudget();
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkPerceptualLODRepresentation::GetNumberOfBudgetTriangles()
+{
+  return this->Actor->GetSelector()->GetNumberOfBudgetTriangles();
 }
 
 //------------------------------------------------------------------------------
@@ -480,6 +674,12 @@ void vtkPerceptualLODRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfBuilds: " << this->NumberOfBuilds << "\n";
   os << indent << "NumberOfSelections: " << this->NumberOfSelections << "\n";
   os << indent << "NumberOfPatchUpdates: " << this->NumberOfPatchUpdates << "\n";
+  os << indent << "TriangleBudget: " << this->TriangleBudget << " (in the view)\n";
+  os << indent << "TotalTriangleBudget: " << this->TotalTriangleBudget << "\n";
+  os << indent << "SharedFrameCost: " << this->SharedFrameCost << " s\n";
+  os << indent << "NumberOfFrameReductions: " << this->NumberOfFrameReductions << "\n";
+  os << indent << "TestingExtraFrameCost: " << this->TestingExtraFrameCost << " s (rank "
+     << this->TestingSlowRank << ")\n";
   os << indent << "Actor:\n";
   this->Actor->PrintSelf(os, indent.GetNextIndent());
 }

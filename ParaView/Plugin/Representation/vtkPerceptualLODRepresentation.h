@@ -33,6 +33,28 @@
  *   holds whole, and the automatic back-face rule follows the whole mesh (closed or not), not
  *   each rank's octree, whose halo has a rim. It renders where the data is (it asks the view for
  * distributed rendering): IceT composites the ranks' images.
+ * - **Budget and frame-time target with several ranks.** TriangleBudget is the view's total: the
+ *   triangles all ranks' selectors count together (vtkPerceptualLODSelector::
+ *   GetNumberOfBudgetTriangles; a rank also counts the halo triangles another rank draws, so the
+ *   view draws at most that many). TargetFrameTime holds the composited frame, which is as slow as
+ *   the slowest rank. Once per render, at the view's REQUEST_RENDER pass (which every rank makes
+ *   before IceT renders, whether its actor is culled, empty or not; not in the actor's render,
+ *   which the renderer skips on a rank whose piece lies outside the view), the ranks gather their
+ *   figures in one collective (vtkMultiProcessController::AllGather of 4 numbers per rank): the
+ *   cost of each rank's last frame (vtkPerceptualLODRenderBinding measures it), the triangles its
+ *   selector counted, whether its budget bound, and its demand (the tolerance cut's count when its
+ *   budget did not bind, else the count plus the refinements left waiting:
+ *   vtkPerceptualLODSelector::GetNumberOfWaitingTriangles). Every rank then computes the same
+ *   figures from the same table: the steering frame cost is the maximum over ranks, the triangles
+ *   drawn the sum, and one step of the binding's controller with them gives the same total budget
+ *   on every rank (vtkPerceptualLODRenderBinding::StepBudget, ExternalSteering). The total is split
+ *   in proportion to the demands: rank r gets 1 + floor((total - ranks) * share_r), so the parts
+ *   never add up to more than the total. The shares follow the demands halfway, and only when they
+ *   would move more than 5 % of the budget in all, so that a still view settles and nothing
+ *   re-executes. The tolerances and the ownership level stay floors: a total below what they need
+ *   is exceeded. With a target, the steered total replaces TriangleBudget, as on one process. When
+ *   the view does not render distributed (another representation asked for local rendering), the
+ *   ranks exchange nothing: each steers from its own frames and a fixed budget is split evenly.
  * - **Selections** (ParaView's Select Cells/Points On, hovering) do not select from this
  *   representation: it is not pickable, because the triangles drawn are those of the current
  *   cut, whose ids change with every view and do not name cells of the input. Select on a
@@ -56,10 +78,13 @@
 #include "PerceptualLODParaViewRepresentationModule.h" // for export macro
 #include "vtkPVDataRepresentation.h"
 
+#include <vector> // for the shares of the budget
+
 class vtkDataObject;
 class vtkMultiProcessController;
 class vtkPerceptualLODActor;
 class vtkPerceptualLODRedistribution;
+class vtkPerceptualLODRenderBinding;
 class vtkPVRenderView;
 
 class PERCEPTUALLODPARAVIEWREPRESENTATION_EXPORT vtkPerceptualLODRepresentation
@@ -90,11 +115,49 @@ public:
   double GetContourTolerance();
   void SetBrightnessTolerance(double tolerance);
   void SetTopologyTolerance(double pixels);
-  /// At most this many triangles per rank (0, the default: no budget; the tolerances stay a
-  /// floor).
+  /// At most this many triangles in the view (0, the default: no budget; the tolerances stay a
+  /// floor). With several ranks, the total over ranks, split between them (see the class
+  /// documentation).
   void SetTriangleBudget(vtkIdType triangles);
-  /// Hold frames near this many seconds by steering the budget (0, the default: off).
+  vtkGetMacro(TriangleBudget, vtkIdType);
+  /// Hold frames near this many seconds by steering the budget (0, the default: off). With
+  /// several ranks, the composited frame: the slowest rank's frame steers every rank's budget.
   void SetTargetFrameTime(double seconds);
+  ///@}
+
+  ///@{
+  /**
+   * For tests: seconds added to the measured frame cost of rank TestingSlowRank (-1, the
+   * default: every rank) before the ranks share it (default 0 s). It makes one rank look slow
+   * without slowing it. Set it alike on every rank: in ParaView a property changed on one rank
+   * only makes that rank alone update the view, whose collectives then wait for the others.
+   */
+  vtkSetMacro(TestingExtraFrameCost, double);
+  vtkGetMacro(TestingExtraFrameCost, double);
+  vtkSetMacro(TestingSlowRank, int);
+  vtkGetMacro(TestingSlowRank, int);
+  ///@}
+
+  ///@{
+  /**
+   * The frame-time target's figures, for tests and for users who check what is held:
+   * - SharedFrameCost: the frame cost (s) the budget was last steered with. With several
+   *   ranks, the maximum over ranks of their measured costs at the last exchange, the same on
+   *   every rank (0: nothing was measured); on one rank, the binding's last measured cost;
+   * - LocalFrameCost: this rank's own last measured frame cost (s; 0 before one);
+   * - TotalTriangleBudget: the budget in force for the whole view at the last render (the
+   *   steered one with a target, else TriangleBudget; 0: none), the same on every rank;
+   * - RankTriangleBudget: this rank's part of it, its selector's budget (0: none);
+   * - NumberOfBudgetTriangles: the triangles this rank's selector counted at its last cut;
+   * - NumberOfFrameReductions: the collectives this representation made to share frames (one
+   *   per render with several ranks rendering distributed; 0 on one rank).
+   */
+  double GetSharedFrameCost();
+  double GetLocalFrameCost();
+  vtkIdType GetTotalTriangleBudget();
+  vtkIdType GetRankTriangleBudget();
+  vtkIdType GetNumberOfBudgetTriangles();
+  vtkGetMacro(NumberOfFrameReductions, int);
   ///@}
 
   ///@{
@@ -187,6 +250,17 @@ protected:
   /// The selector's back-face mode: BackFaceMode, with AUTOMATIC decided by the whole mesh
   /// (closed: hidden) when the mesh was shared out between ranks.
   void ApplyBackFaceMode();
+  /**
+   * At REQUEST_RENDER, on every rank: with several ranks rendering distributed, gathers the
+   * ranks' frame figures (one collective), steers the total budget with the slowest rank's
+   * frame cost and gives this rank's selector its part (see the class documentation).
+   */
+  void ShareFrame(vtkPVRenderView* view);
+  /// Moves the shares of the total budget towards `demands` (one per rank; the same on every
+  /// rank), with the dead band and the halfway step of the class documentation.
+  void UpdateShares(const std::vector<double>& demands);
+  /// This rank's part of `total` with the current shares (0 for a total of 0).
+  vtkIdType PartOfBudget(vtkIdType total);
 
   vtkPerceptualLODActor* Actor = nullptr;
   vtkPerceptualLODRedistribution* Redistribution = nullptr;
@@ -204,6 +278,17 @@ protected:
   int NumberOfBuilds = 0;
   int NumberOfSelections = 0;
   int NumberOfPatchUpdates = 0;
+  // budget and frame-time target over several ranks (ShareFrame)
+  vtkIdType TriangleBudget = 0;
+  double TestingExtraFrameCost = 0;
+  int TestingSlowRank = -1;
+  double SharedFrameCost = 0;
+  vtkIdType TotalTriangleBudget = 0;
+  int NumberOfFrameReductions = 0;
+  bool Sharing = false;          // the last render shared its frame between ranks
+  std::vector<double> Shares;    // each rank's share of the total budget (sum 1)
+  bool SharesFromDemand = false; // the shares follow measured demands (not an even start)
+  vtkPerceptualLODRenderBinding* Binding = nullptr; // the actor's, for the view's renderer
 
 private:
   vtkPerceptualLODRepresentation(const vtkPerceptualLODRepresentation&) = delete;

@@ -152,3 +152,50 @@ TEST(FrameTimeTarget, AbsurdTargetsAreErrors)
   actor->SetTargetFrameTime(-3);
   EXPECT_EQ(actor->GetTargetFrameTime(), 0);
 }
+
+TEST(FrameTimeTarget, SteeredByTheOwner)
+{
+  // ExternalSteering, the hook of vtkPerceptualLODRepresentation under MPI: the push measures
+  // but does not steer; the owner takes the cost, steers with its own figures and sets the
+  // selector's budget
+  Frames f;
+  f.Actor->SetInputData(plodtest::MakeBlob(3, 120, 0.2));
+  f.Renderer->ResetCamera();
+  EXPECT_EQ(f.Actor->GetBinding(f.Renderer), nullptr);
+  vtkPerceptualLODRenderBinding* binding = f.Actor->MakeBinding(f.Renderer);
+  ASSERT_NE(binding, nullptr);
+  binding->ExternalSteeringOn();
+  f.Actor->SetTargetFrameTime(0.05);
+  vtkPerceptualLODSelector* selector = f.Actor->GetSelector();
+  f.Render();
+  EXPECT_EQ(f.Actor->GetBinding(f.Renderer), binding) << "the first render uses the binding made";
+  EXPECT_EQ(selector->GetTriangleBudget(), 0) << "the push did not steer";
+  EXPECT_EQ(binding->GetTargetBudget(), 0);
+  // the measured cost, once
+  const double cost = binding->TakeFrameCost();
+  EXPECT_GT(cost, 0);
+  EXPECT_EQ(cost, binding->GetLastFrameCost());
+  EXPECT_EQ(binding->TakeFrameCost(), 0) << "a cost is taken once";
+  // the controller's steps with the owner's figures: the first starts from what was drawn, a
+  // frame four times the target steps down by the largest step (1.25)
+  const vtkIdType start = binding->StepBudget(0, 40000, false);
+  EXPECT_EQ(start, 40000);
+  EXPECT_EQ(binding->StepBudget(0.2, 40000, true), 32000);
+  EXPECT_EQ(binding->StepBudget(0, 40000, true), 32000) << "nothing measured: the budget stays";
+  EXPECT_EQ(binding->GetTargetBudget(), 32000);
+  EXPECT_EQ(selector->GetTriangleBudget(), 0) << "StepBudget leaves the selector to the owner";
+  // the owner's budget is left alone by the pushes
+  selector->SetTriangleBudget(1234);
+  f.Render();
+  f.Render();
+  EXPECT_EQ(selector->GetTriangleBudget(), 1234);
+  // steering by the push again: the next push sets the binding's budget
+  binding->ExternalSteeringOff();
+  f.Render();
+  EXPECT_EQ(selector->GetTriangleBudget(), binding->GetTargetBudget());
+  // the target off: no budget
+  f.Actor->SetTargetFrameTime(0);
+  f.Render();
+  EXPECT_EQ(selector->GetTriangleBudget(), 0);
+  EXPECT_EQ(binding->StepBudget(0.2, 100, true), 0);
+}
