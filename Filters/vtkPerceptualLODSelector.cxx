@@ -106,6 +106,7 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , TopologyTolerance(1.0)
   , MinimumLevel(0)
   , TriangleBudget(0)
+  , IncrementalSelection(false)
   , ViewAngle(30.0)
   , UseFrustum(false)
   , ParallelProjection(false)
@@ -311,6 +312,7 @@ int vtkPerceptualLODSelector::RequestData(
   in.TopologyTolerance = this->TopologyTolerance;
   in.MinimumLevel = this->MinimumLevel;
   in.TriangleBudget = this->TriangleBudget;
+  in.Incremental = this->IncrementalSelection;
   in.UseOctreeMaterial = input->GetHasMaterialArrays();
   in.Diffuse = this->DiffuseReflectance;
   in.Specular = this->SpecularReflectance;
@@ -580,6 +582,7 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TopologyTolerance: " << this->TopologyTolerance << " px\n";
   os << indent << "BrightnessTolerance: " << this->BrightnessTolerance << "\n";
   os << indent << "MinimumLevel: " << this->MinimumLevel << "\n";
+  os << indent << "IncrementalSelection: " << (this->IncrementalSelection ? "on" : "off") << "\n";
   os << indent << "TriangleBudget: " << this->TriangleBudget
      << (this->TriangleBudget > 0 ? "" : " (off)") << "\n";
   os << indent << "EyePosition: (" << this->EyePosition[0] << ", " << this->EyePosition[1] << ", "
