@@ -144,7 +144,7 @@
  * brightness only. The count (BudgetTriangles) is kept exactly. Without a previous tolerance cut
  * (first frame, new octree, a budget) the full walk runs, and records its cut as the front.
  * Measured (BenchmarkSelector, BM_SelectIncremental, docs/benchmarks.md): it is slower than the
- * full walk on these octrees, 1.5 to 2.1 times per frame at about the same number of cells
+ * full walk on these octrees, 1.05 to 2.1 times per frame at about the same number of cells
  * judged. A full walk judges the cut and the refined cells above it; with about four children
  * per refined cell the latter are a third of the former, and the incremental walk judges every
  * cell of the cut and most of the parents of kept cells again, so it saves few judgements and
