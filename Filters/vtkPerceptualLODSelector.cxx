@@ -107,6 +107,7 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , MinimumLevel(0)
   , TriangleBudget(0)
   , BudgetStopRule(BUDGET_SKIP_MISFITS)
+  , IncrementalSelection(false)
   , ViewAngle(30.0)
   , UseFrustum(false)
   , ParallelProjection(false)
@@ -313,6 +314,7 @@ int vtkPerceptualLODSelector::RequestData(
   in.MinimumLevel = this->MinimumLevel;
   in.TriangleBudget = this->TriangleBudget;
   in.BudgetStop = static_cast<plod::BudgetStopRule>(this->BudgetStopRule);
+  in.Incremental = this->IncrementalSelection;
   in.UseOctreeMaterial = input->GetHasMaterialArrays();
   in.Diffuse = this->DiffuseReflectance;
   in.Specular = this->SpecularReflectance;
@@ -582,6 +584,7 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TopologyTolerance: " << this->TopologyTolerance << " px\n";
   os << indent << "BrightnessTolerance: " << this->BrightnessTolerance << "\n";
   os << indent << "MinimumLevel: " << this->MinimumLevel << "\n";
+  os << indent << "IncrementalSelection: " << (this->IncrementalSelection ? "on" : "off") << "\n";
   os << indent << "TriangleBudget: " << this->TriangleBudget
      << (this->TriangleBudget > 0 ? "" : " (off)") << ", stop rule "
      << (this->BudgetStopRule == BUDGET_STOP_AT_FIRST_MISFIT ? "StopAtFirstMisfit" : "SkipMisfits")

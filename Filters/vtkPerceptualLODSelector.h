@@ -322,6 +322,23 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Incremental selection (off by default): each execution starts from the previous cut
+   * instead of the root (Hoppe 1997, Luebke & Erikson 1997). Every cell of the previous cut is
+   * judged again and refined where the tolerances now ask for it; a parent whose children are
+   * all kept is judged and replaces them when it would no longer be refined. Every cell of the
+   * cut then passes the tests at the current view, as in the full walk, but a coarser ancestor
+   * that would now pass is found only level by level, so the cut can hold more cells than the
+   * full walk's. Only without a triangle budget; the first execution (and the one after the
+   * octree or the budget changes) is a full walk. Measured against the full walk in
+   * docs/benchmarks.md ("Incremental selection"); see plodSelector.h for the rules.
+   */
+  vtkSetMacro(IncrementalSelection, bool);
+  vtkGetMacro(IncrementalSelection, bool);
+  vtkBooleanMacro(IncrementalSelection, bool);
+  ///@}
+
+  ///@{
   /// The view. Eye position default (0, 0, 1); view angle in degrees (default 30); viewport
   /// size in pixels (default 1920 x 1080).
   vtkSetVector3Macro(EyePosition, double);
@@ -481,6 +498,7 @@ protected:
   int MinimumLevel;
   vtkIdType TriangleBudget;
   int BudgetStopRule;
+  bool IncrementalSelection;
   double EyePosition[3];
   double ViewAngle;
   int ViewportSize[2];

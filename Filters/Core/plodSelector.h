@@ -154,6 +154,30 @@
  * At T_s = 1 px: 0.12 ms against 0.52 and 0.72 ms. The queue wins as soon as the bisection
  * needs more than 1.4 walks a frame, and its cut follows the order of the errors rather than
  * one scale for every tolerance.
+ *
+ * Incremental selection (SelectionInput::Incremental, after Hoppe 1997 and Luebke & Erikson
+ * 1997, who update the previous frame's front instead of walking from the root):
+ * 1. Every cell of the previous cut is judged again, with every test: no "brightness only"
+ *    from a parent whose contour decision is not judged again this frame, and no frustum plane
+ *    known inside (the frustum moved). Kept, it stays (its state and reason rewritten); refined,
+ *    the walk goes on below it, every cell judged with every test.
+ * 2. Coarsening, pass after pass while a parent collapses: a parent whose children are all in
+ *    the cut and kept (drawn or hidden, none opened) is judged, and replaces them when it is
+ *    no longer refined.
+ * So every cell of the cut passes its tests at the current view (Refines() is false for it,
+ * true for an opened leaf) and every parent of kept cells would still be refined. What it does
+ * not find is a coarser ancestor further up that would now pass: the full walk's cut may be
+ * coarser (measured: within 4 % of its triangles over the benchmark's orbit and zoom), and it
+ * can also be finer, since the full walk tests a cell below a contour-accepted parent for
+ * brightness only. The count (BudgetTriangles) is kept exactly. Without a previous tolerance cut
+ * (first frame, new octree, a budget) the full walk runs, and records its cut as the front.
+ * Measured (BenchmarkSelector, BM_SelectIncremental, docs/benchmarks.md): it is slower than the
+ * full walk on these octrees, 1.05 to 2.1 times per frame at about the same number of cells
+ * judged. A full walk judges the cut and the refined cells above it; with about four children
+ * per refined cell the latter are a third of the former, and the incremental walk judges every
+ * cell of the cut and most of the parents of kept cells again, so it saves few judgements and
+ * pays for its bookkeeping (the parent and mark lookups, all six frustum planes at every cell
+ * of the front). It stays an option, off by default.
  */
 #ifndef plodSelector_h
 #define plodSelector_h
@@ -294,6 +318,11 @@ struct SelectionInput
   int64_t TriangleBudget = 0;
   /// What the budget walk does with a refinement that does not fit (default SkipMisfits).
   BudgetStopRule BudgetStop = BudgetStopRule::SkipMisfits;
+
+  /// Start from the previous frame's cut instead of the root (see "Incremental selection" in
+  /// the file documentation). Used only when the previous frame was a tolerance walk (no
+  /// budget) on the same octree; otherwise the full walk runs and seeds the next frame.
+  bool Incremental = false;
 };
 
 struct SelectionStats
@@ -368,6 +397,11 @@ public:
   void Select(const SelectionInput& in, uint8_t* state, uint8_t* reason, uint8_t* cullMask,
     SelectionStats& stats);
 
+  /// Whether the tolerances refine (a leaf: open) the cell `node` judged with every test and no
+  /// context from its parent, as the incremental walk judges the cells of the previous cut and
+  /// the parents it may coarsen to. For tests and diagnostics; false for an index out of range.
+  bool Refines(const SelectionInput& in, int64_t node) const;
+
 private:
   /// A node to visit: its cell coordinates and whether only brightness is still tested.
   struct Entry
@@ -406,6 +440,8 @@ private:
   void ClearPrevious(uint8_t* state, uint8_t* reason, uint8_t* cullMask);
   void SelectDepthFirst(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     uint8_t* cullMask, SelectionStats& stats);
+  void SelectIncremental(const SelectionInput& in, uint8_t* state, uint8_t* reason,
+    uint8_t* cullMask, SelectionStats& stats);
   void SelectWithinBudget(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     uint8_t* cullMask, SelectionStats& stats);
 
@@ -415,6 +451,12 @@ private:
   std::vector<WaitingCell> Waiting;
   std::vector<float> SinTheta, CosTheta;
   std::vector<int32_t> Previous; // nodes of the previous cut
+  /// Incremental selection: the previous cut's cells (a tolerance walk's, else empty), the
+  /// triangles it counted, and per-node marks of the coarsening pass.
+  std::vector<Entry> Front, NextFront;
+  int64_t FrontTriangles = 0;
+  std::vector<uint32_t> Mark;
+  uint32_t MarkValue = 0;
 };
 
 } // namespace plod

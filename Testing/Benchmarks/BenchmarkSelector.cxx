@@ -18,6 +18,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <string>
@@ -96,11 +97,19 @@ vtkSmartPointer<vtkPerceptualLODSelector> MakeSelector(int mode, double toleranc
 class Orbit
 {
 public:
+  /// zoom: the eye moves in and out along the view axis instead (distance 4.5 to 2.25 and back,
+  /// at most 0.5 % a frame), the model growing past the viewport
+  explicit Orbit(bool zoom = false)
+    : Zoom(zoom)
+  {
+  }
+
   void Next(vtkPerceptualLODSelector* selector)
   {
     // the model (radius about 1.2) fills the 1080-pixel height at distance 4.5
-    const double distance = 4.5;
-    const double a = 0.002 * this->Frame++;
+    const double distance = this->Zoom ? 4.5 * (0.75 + 0.25 * std::cos(0.02 * this->Frame)) : 4.5;
+    const double a = this->Zoom ? 0.3 : 0.002 * this->Frame;
+    ++this->Frame;
     vtkNew<vtkCamera> camera;
     camera->SetPosition(distance * std::sin(a), 0.0, distance * std::cos(a));
     camera->SetFocalPoint(0, 0, 0);
@@ -124,6 +133,7 @@ public:
   }
 
 private:
+  bool Zoom;
   double Previous[16];
   bool First = true;
   int Frame = 0;
@@ -163,6 +173,51 @@ void BM_Select(benchmark::State& state)
   state.counters["drawn"] = static_cast<double>(selector->GetNumberOfDrawnNodes());
   state.counters["triangles"] = static_cast<double>(selector->GetNumberOfBudgetTriangles());
   state.SetLabel(std::string(Names[mode]) + " T_s=" + std::to_string(tolerance).substr(0, 4));
+}
+
+/**
+ * Incremental selection (each frame starts from the previous cut) against the full walk from
+ * the root, over the orbit (range(2) 0) or the zoom (1): range(3) 1 incremental, 0 full. Both
+ * report their cells judged a frame (visited), the triangles of the cut and, for the
+ * incremental walk, how many more triangles than the full walk's cut of the same view it counts
+ * (the full walk is run beside it, outside the timing).
+ */
+void BM_SelectIncremental(benchmark::State& state)
+{
+  const int mode = static_cast<int>(state.range(0));
+  const double tolerance = state.range(1) / 100.0;
+  const bool zoom = state.range(2) != 0;
+  const bool incremental = state.range(3) != 0;
+  auto selector = MakeSelector(mode, tolerance);
+  auto full = MakeSelector(mode, tolerance);
+  selector->SetIncrementalSelection(incremental);
+  Orbit orbit(zoom), fullOrbit(zoom);
+  double visited = 0, seconds = 0, cpu = 0, extra = 0, frames = 0;
+  for (auto _ : state)
+  {
+    orbit.Next(selector);
+    const double start = ThreadSeconds();
+    selector->Update();
+    cpu += ThreadSeconds() - start;
+    state.SetIterationTime(selector->GetSelectTime());
+    visited += static_cast<double>(selector->GetNumberOfVisitedNodes());
+    seconds += selector->GetSelectTime();
+    state.PauseTiming();
+    fullOrbit.Next(full);
+    full->Update();
+    extra += double(selector->GetNumberOfBudgetTriangles()) /
+        std::max<double>(1.0, double(full->GetNumberOfBudgetTriangles())) -
+      1.0;
+    ++frames;
+    state.ResumeTiming();
+  }
+  state.counters["Mvisited/s"] = visited / seconds * 1e-6;
+  state.counters["Mvisited/cpu-s"] = visited / cpu * 1e-6;
+  state.counters["visited/frame"] = visited / frames;
+  state.counters["triangles"] = static_cast<double>(selector->GetNumberOfBudgetTriangles());
+  state.counters["extra triangles"] = extra / frames; // over the full walk's, same view
+  state.SetLabel(std::string(Names[mode]) + " T_s=" + std::to_string(tolerance).substr(0, 4) +
+    (zoom ? " zoom " : " orbit ") + (incremental ? "incremental" : "full"));
 }
 
 /// The triangles of the tolerance cut at the orbit's first view (the budgets are fractions of
@@ -295,6 +350,12 @@ BENCHMARK(BM_Select)
   ->ArgsProduct({ benchmark::CreateDenseRange(SRCC, FOVEATED, 1), { 100 } })
   ->Args({ SRCC, 25 })
   ->Args({ SRCC_TMM, 25 })
+  ->UseManualTime()
+  ->Unit(benchmark::kMillisecond);
+
+// incremental against full selection over the orbit and the zoom, SRCC and SRCC+TMM
+BENCHMARK(BM_SelectIncremental)
+  ->ArgsProduct({ { SRCC, SRCC_TMM }, { 25, 100 }, { 0, 1 }, { 0, 1 } })
   ->UseManualTime()
   ->Unit(benchmark::kMillisecond);
 
