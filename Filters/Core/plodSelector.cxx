@@ -276,6 +276,23 @@ struct Frame
   std::vector<Light> Lights;
 };
 
+/// The unit vector from `x` to the light `l` in `vl`; returns the distance (directional: the
+/// given direction's length). 0: the light is on `x` (or has no direction), `vl` is not a unit
+/// vector.
+inline double ToLight(const Frame::Light& l, const double x[3], double vl[3])
+{
+  for (int a = 0; a < 3; ++a)
+    vl[a] = l.P[a]; // directional: already a unit vector
+  if (!l.Positional)
+    return l.Length;
+  for (int a = 0; a < 3; ++a)
+    vl[a] -= x[a];
+  const double ll = std::sqrt(Dot(vl, vl));
+  for (int a = 0; a < 3 && ll > 0; ++a)
+    vl[a] /= ll;
+  return ll;
+}
+
 Frame MakeFrame(
   const OctreeView& v, const SelectionInput& in, const float* sinTheta, const float* cosTheta)
 {
@@ -503,16 +520,8 @@ template <bool WithPriority>
         const Frame::Light& l = f.Lights[i];
         if (l.Specular <= 0)
           continue;
-        double vl[3] = { l.P[0], l.P[1], l.P[2] }; // directional: already a unit vector
-        double ll = l.Length;
-        if (l.Positional)
-        {
-          for (int a = 0; a < 3; ++a)
-            vl[a] -= x[a];
-          ll = std::sqrt(Dot(vl, vl));
-          for (int a = 0; a < 3 && ll > 0; ++a)
-            vl[a] /= ll;
-        }
+        double vl[3];
+        const double ll = ToLight(l, x, vl);
         if (!(ll > 0))
         {
           feature = true;
@@ -550,16 +559,8 @@ template <bool WithPriority>
         {
           break; // a rendered pixel saturates at 1: no cell can vary by more (see below)
         }
-        double vl[3] = { l.P[0], l.P[1], l.P[2] }; // directional: already a unit vector
-        double ll = l.Length;
-        if (l.Positional)
-        {
-          for (int a = 0; a < 3; ++a)
-            vl[a] -= x[a];
-          ll = std::sqrt(Dot(vl, vl));
-          for (int a = 0; a < 3 && ll > 0; ++a)
-            vl[a] /= ll;
-        }
+        double vl[3];
+        const double ll = ToLight(l, x, vl);
         if (!(ll > 0))
         {
           // a light on the vertex lights every direction: the largest variation

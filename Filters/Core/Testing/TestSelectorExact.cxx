@@ -837,6 +837,55 @@ TEST(SelectorExact, BudgetPriorityOfTheBaselines)
   EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 2 * sinA * sinA / (1 - std::exp(-100 * D)), 1e-5);
 }
 
+TEST(SelectorExact, BudgetPriorityOfVelocityAlonePSECFeaturesAndRims)
+{
+  // Velocity alone (IPV, TMM §5.3): the projected edge over T_s times the speed factor. A and B
+  // are both level-1 cells (edge 0.5); B is nearer (k_B = 100 against k_A = 99.875): B first,
+  // and A is refused at 0.5 k_A / (T_s factor). Unprojected edges would tie, and the tie would
+  // go to A.
+  ForkScene s;
+  s.In.Motion = plod::MotionModel::InverseVelocity;
+  auto r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 0.5 * ForkScene::KA(), 1e-5 * ForkScene::KA());
+  s.In.VelocityFactor = 2; // the tolerance doubles, the ratio halves
+  r = s.Select(10);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 0.25 * ForkScene::KA(), 1e-5 * ForkScene::KA());
+  s.In.Motion = plod::MotionModel::None;
+  s.In.VelocityFactor = 1;
+
+  // PSEC: a feature cell (A, its cone holding the view direction's normal plane: on the
+  // contour) is ranked against its reduced tolerance, PSECFactor T_s. A's shape error projects
+  // to 1 px (ratio 1 / 0.25 = 4), B's to 3 px (ratio 3): A first, B refused at 3.
+  s.In.Error = plod::ErrorModel::PSEC;
+  s.T.Shape[1] = float(1.0 / ForkScene::KA());
+  s.T.Shape[2] = 0.03f;
+  r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 3.0, 1e-5);
+  s.In.PSECFactor = 0.5; // A's ratio 2, now below B's 3
+  r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 2.0, 1e-5);
+  s.In.Error = plod::ErrorModel::SRCC;
+  s.In.PSECFactor = 0.25;
+
+  // SRCC rim (an open surface's boundary, refined like the contour until its edge passes the
+  // size floor): ranked by its projected edge, 0.5 k_A = 49.9 T_s, whatever its shape error
+  // (1 px here), and capped by the root's key (its contour ratio, 10.3): still above B's
+  // brightness ratio (3.79), so A goes first. Ranked by its shape error it would come after B.
+  s.T.Flags[1] |= plod::NodeBoundary;
+  r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, s.B(), 1e-5 * s.B());
+  s.T.Flags[1] = plod::NodeTopologySafe; // not a rim: its contour ratio 1 comes after B
+  r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+}
+
 TEST(SelectorExact, BudgetStopsAtTheFirstRefinementThatDoesNotFit)
 {
   // A first (its ratio is larger) but it owns 20 triangles: a budget of 10 stops there, and B
