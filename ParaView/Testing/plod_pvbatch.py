@@ -56,6 +56,14 @@ def rank_and_size():
     return (c.GetLocalProcessId(), c.GetNumberOfProcesses()) if c else (0, 1)
 
 
+def two_rank_scene():
+    """This rank, the number of ranks (at least 2, else the test fails) and the scene."""
+    rank, size = rank_and_size()
+    if size < 2:
+        fail("run with mpiexec -np 2 pvbatch --symmetric")
+    return (rank, size) + tuple(scene())
+
+
 def say(*args):
     rank, size = rank_and_size()
     print("[rank %d/%d]" % (rank, size), *args, flush=True)
@@ -348,10 +356,7 @@ def octree_filters(out):
 
 
 def two_ranks(out):
-    rank, size = rank_and_size()
-    if size < 2:
-        fail("run with mpiexec -np 2 pvbatch --symmetric")
-    view, contour, display = scene()
+    rank, size, view, contour, display = two_rank_scene()
     lod = lod_object(display)
     ResetCamera(view)
     Render(view)
@@ -469,10 +474,7 @@ def two_ranks_frame_time(out):
       ranks' budgets, though rank 0's own frames are far faster than the target;
     - with one rank's actor culled (its piece outside the view), both go on exchanging;
     - the representation's collectives are as many on every rank: one per render."""
-    rank, size = rank_and_size()
-    if size < 2:
-        fail("run with mpiexec -np 2 pvbatch --symmetric")
-    view, contour, display = scene()
+    rank, size, view, contour, display = two_rank_scene()
     lod = LOD(display)
     ResetCamera(view)
     renders = 0

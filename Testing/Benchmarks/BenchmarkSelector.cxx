@@ -149,26 +149,42 @@ double ThreadSeconds()
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
+/// The visited nodes and the wall and CPU seconds of the timed selections of one benchmark.
+struct SelectTimes
+{
+  double Visited = 0, Seconds = 0, Cpu = 0;
+
+  /// One frame: the next view of `path`, the selection, its time as the iteration's.
+  void Frame(benchmark::State& state, vtkPerceptualLODSelector* selector, Orbit& path)
+  {
+    path.Next(selector);
+    const double start = ThreadSeconds();
+    selector->Update();
+    this->Cpu += ThreadSeconds() - start;
+    state.SetIterationTime(selector->GetSelectTime());
+    this->Visited += static_cast<double>(selector->GetNumberOfVisitedNodes());
+    this->Seconds += selector->GetSelectTime();
+  }
+  void Report(benchmark::State& state) const
+  {
+    state.counters["Mvisited/s"] = this->Visited / this->Seconds * 1e-6;
+    // per second of the thread's CPU time (the whole Update: the pipeline's own cost included)
+    state.counters["Mvisited/cpu-s"] = this->Visited / this->Cpu * 1e-6;
+  }
+};
+
 void BM_Select(benchmark::State& state)
 {
   const int mode = static_cast<int>(state.range(0));
   const double tolerance = state.range(1) / 100.0; // contour tolerance in pixels
   auto selector = MakeSelector(mode, tolerance);
   Orbit orbit;
-  double visited = 0, seconds = 0, cpu = 0;
+  SelectTimes times;
   for (auto _ : state)
   {
-    orbit.Next(selector);
-    const double start = ThreadSeconds();
-    selector->Update();
-    cpu += ThreadSeconds() - start;
-    state.SetIterationTime(selector->GetSelectTime());
-    visited += static_cast<double>(selector->GetNumberOfVisitedNodes());
-    seconds += selector->GetSelectTime();
+    times.Frame(state, selector, orbit);
   }
-  state.counters["Mvisited/s"] = visited / seconds * 1e-6;
-  // per second of the thread's CPU time (the whole Update: the pipeline's own cost included)
-  state.counters["Mvisited/cpu-s"] = visited / cpu * 1e-6;
+  times.Report(state);
   state.counters["visited"] = static_cast<double>(selector->GetNumberOfVisitedNodes());
   state.counters["drawn"] = static_cast<double>(selector->GetNumberOfDrawnNodes());
   state.counters["triangles"] = static_cast<double>(selector->GetNumberOfBudgetTriangles());
@@ -192,16 +208,11 @@ void BM_SelectIncremental(benchmark::State& state)
   auto full = MakeSelector(mode, tolerance);
   selector->SetIncrementalSelection(incremental);
   Orbit orbit(zoom), fullOrbit(zoom);
-  double visited = 0, seconds = 0, cpu = 0, extra = 0, frames = 0;
+  SelectTimes times;
+  double extra = 0, frames = 0;
   for (auto _ : state)
   {
-    orbit.Next(selector);
-    const double start = ThreadSeconds();
-    selector->Update();
-    cpu += ThreadSeconds() - start;
-    state.SetIterationTime(selector->GetSelectTime());
-    visited += static_cast<double>(selector->GetNumberOfVisitedNodes());
-    seconds += selector->GetSelectTime();
+    times.Frame(state, selector, orbit);
     state.PauseTiming();
     fullOrbit.Next(full);
     full->Update();
@@ -211,9 +222,8 @@ void BM_SelectIncremental(benchmark::State& state)
     ++frames;
     state.ResumeTiming();
   }
-  state.counters["Mvisited/s"] = visited / seconds * 1e-6;
-  state.counters["Mvisited/cpu-s"] = visited / cpu * 1e-6;
-  state.counters["visited/frame"] = visited / frames;
+  times.Report(state);
+  state.counters["visited/frame"] = times.Visited / frames;
   state.counters["triangles"] = static_cast<double>(selector->GetNumberOfBudgetTriangles());
   state.counters["extra triangles"] = extra / frames; // over the full walk's, same view
   state.SetLabel(std::string(Names[mode]) + " T_s=" + std::to_string(tolerance).substr(0, 4) +
