@@ -264,16 +264,9 @@ struct Frame
   /// of a cell [lo, lo + h]^3 farthest along the normal is lo + h PlaneUp, the nearest
   /// lo + h (1 - PlaneUp) (exact: h times 0 or 1).
   double PlaneUp[6][3];
-  /// The lights, directional ones with a unit direction (normalised once per frame, not per
-  /// cell; a zero direction keeps Length 0: it lights every direction).
-  struct Light
-  {
-    bool Positional;
-    double P[3];   // positional: position; directional: unit direction
-    double Length; // directional: the given direction's length
-    double Diffuse, Specular;
-  };
-  std::vector<Light> Lights;
+  /// The lights, prepared once a frame (the selector's storage, kept from frame to frame).
+  using Light = detail::PreparedLight;
+  const std::vector<Light>& Lights;
 };
 
 /// The unit vector from `x` to the light `l` in `vl`; returns the distance (directional: the
@@ -293,8 +286,9 @@ inline double ToLight(const Frame::Light& l, const double x[3], double vl[3])
   return ll;
 }
 
-Frame MakeFrame(
-  const OctreeView& v, const SelectionInput& in, const float* sinTheta, const float* cosTheta)
+/// The frame's constants; `lights` receives the prepared lights (its capacity is kept).
+Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const float* sinTheta,
+  const float* cosTheta, std::vector<detail::PreparedLight>& lights)
 {
   const bool srcc = in.Error == ErrorModel::SRCC;
   const bool micro = in.Motion == MotionModel::MicroMotion;
@@ -308,7 +302,8 @@ Frame MakeFrame(
     in.Velocity == VelocityCriterion::Alone;
   const bool cheng = in.Error == ErrorModel::Cheng && !velocityAlone;
   Frame f{ v, in, sinTheta, cosTheta, srcc, micro, velocity, velocityAlone, cheng, { 0, 0, -1 },
-    false, {}, {}, {} };
+    false, {}, {}, lights };
+  lights.clear();
   if (in.Parallel)
   {
     const double l = std::sqrt(Dot(in.ProjectionDirection, in.ProjectionDirection));
@@ -318,15 +313,15 @@ Frame MakeFrame(
   for (const SelectorLight& l : in.Lights)
   {
     f.AnySpecular = f.AnySpecular || l.Specular > 0;
-    Frame::Light p{ l.Positional, { l.Position[0], l.Position[1], l.Position[2] }, 1.0, l.Diffuse,
-      l.Specular };
+    detail::PreparedLight p{ l.Positional, { l.Position[0], l.Position[1], l.Position[2] }, 1.0,
+      l.Diffuse, l.Specular };
     if (!l.Positional)
     {
       p.Length = std::sqrt(Dot(l.Position, l.Position));
       for (int a = 0; a < 3 && p.Length > 0; ++a)
         p.P[a] /= p.Length;
     }
-    f.Lights.push_back(p);
+    lights.push_back(p);
   }
   for (int level = 0; level <= MaxFinestLevel; ++level)
     f.Edge[level] = v.CellEdge(level);
@@ -831,7 +826,9 @@ bool Selector::Refines(const SelectionInput& in, int64_t node) const
   int xyz[3];
   this->View.CellCoordinates(node, xyz);
   const uint32_t C[3] = { uint32_t(xyz[0]), uint32_t(xyz[1]), uint32_t(xyz[2]) };
-  const Frame frame = MakeFrame(this->View, in, this->SinTheta.data(), this->CosTheta.data());
+  std::vector<detail::PreparedLight> lights; // (a diagnostic: its own storage, the walks' kept)
+  const Frame frame =
+    MakeFrame(this->View, in, this->SinTheta.data(), this->CosTheta.data(), lights);
   uint8_t inside = 0;
   return Judge<false>(frame, static_cast<int32_t>(node), C, false, inside).What == Verdict::Refine;
 }
@@ -926,7 +923,8 @@ template <bool EveryTest, class EntryType>
 [[gnu::flatten]] void Selector::SelectDepthFirst(const SelectionInput& in, uint8_t* state,
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
-  const Frame frame = MakeFrame(this->View, in, this->SinTheta.data(), this->CosTheta.data());
+  const Frame frame =
+    MakeFrame(this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   // the walk's stack is a member: its capacity is kept from frame to frame
   std::vector<Entry>& stack = this->Stack;
@@ -943,7 +941,8 @@ template <bool EveryTest, class EntryType>
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
   const OctreeView& v = this->View;
-  const Frame frame = MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data());
+  const Frame frame =
+    MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights);
   this->Previous.clear(); // rebuilt below from the new front
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   std::vector<Entry>& stack = this->Stack;
@@ -1034,7 +1033,8 @@ template <bool EveryTest, class EntryType>
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
   const OctreeView& v = this->View;
-  const Frame frame = MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data());
+  const Frame frame =
+    MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   std::vector<Entry>& stack = this->Stack;
   std::vector<Candidate>& queue = this->Queue;
@@ -1093,6 +1093,15 @@ template <bool EveryTest, class EntryType>
           static_cast<uint8_t>(r.Level), inside, d.BrightnessOnly, d.Topology });
     }
   };
+  // refines a cell that left the queue, and judges its children under its key
+  auto refineWaiting = [&](const Candidate& c) {
+    const WaitingCell w = waiting[c.Slot]; // (a copy: judging the children grows `waiting`)
+    stats.TopologyRefined += w.Topology ? 1 : 0;
+    const Entry e{ c.Node, { w.C[0], w.C[1], w.C[2] }, false, w.Inside };
+    triangles += RefineCell(v, e, { w.ChildMask, w.FirstChild, w.Level, w.Owned },
+      w.ChildrenBrightnessOnly, w.Inside, stack, cut);
+    judgeStack(FromOrderBits(static_cast<uint32_t>(c.Order >> 32)));
+  };
   stack.push_back({ 0, { 0, 0, 0 }, false, 0 });
   judgeStack(std::numeric_limits<float>::infinity());
   const bool skip = in.BudgetStop == BudgetStopRule::SkipMisfits;
@@ -1130,11 +1139,14 @@ template <bool EveryTest, class EntryType>
       // order. One pass over the queue makes them and draws the others, instead of a heap pop
       // for each; the walk goes on with the refinements they queue, whose keys order them as
       // before. The cut is the one that popping the whole queue in order would give.
-      const std::vector<Candidate> rest(queue.begin(), queue.end());
+      // (the pass reads a copy of the queue, which the refinements refill: a member, so that
+      // its capacity is kept from frame to frame)
+      std::vector<Candidate>& rest = this->QueueRest;
+      rest.assign(queue.begin(), queue.end());
       queue.clear();
       for (const Candidate& c : rest)
       {
-        const WaitingCell r = waiting[c.Slot];
+        const WaitingCell& r = waiting[c.Slot];
         count(r.Owned, -1);
         if (r.Owned > 0 || triangles > in.TriangleBudget)
         {
@@ -1142,22 +1154,13 @@ template <bool EveryTest, class EntryType>
           stats.BudgetWaitingTriangles += r.Owned;
           continue;
         }
-        stats.TopologyRefined += r.Topology ? 1 : 0;
-        const Entry e{ c.Node, { r.C[0], r.C[1], r.C[2] }, false, r.Inside };
-        triangles += RefineCell(v, e, { r.ChildMask, r.FirstChild, r.Level, r.Owned },
-          r.ChildrenBrightnessOnly, r.Inside, stack, cut);
-        judgeStack(FromOrderBits(static_cast<uint32_t>(c.Order >> 32)));
+        refineWaiting(c);
       }
       continue;
     }
-    const float key = FromOrderBits(static_cast<uint32_t>(top.Order >> 32));
     HeapPop(queue, below);
     count(w.Owned, -1);
-    stats.TopologyRefined += w.Topology ? 1 : 0;
-    const Entry e{ top.Node, { w.C[0], w.C[1], w.C[2] }, false, w.Inside };
-    triangles += RefineCell(v, e, { w.ChildMask, w.FirstChild, w.Level, w.Owned },
-      w.ChildrenBrightnessOnly, w.Inside, stack, cut);
-    judgeStack(key);
+    refineWaiting(top);
   }
   // what the budget left unrefined is drawn at its representative vertex
   for (const Candidate& c : queue)

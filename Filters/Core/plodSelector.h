@@ -351,6 +351,20 @@ struct SelectionStats
   int64_t BudgetWaitingTriangles = 0;
 };
 
+namespace detail
+{
+/// A light as the walks read it, prepared once a frame (Selector keeps the storage): a
+/// directional light's direction made a unit vector, with the length it was given (0: no
+/// direction, it lights every direction).
+struct PreparedLight
+{
+  bool Positional;
+  double P[3];   // positional: position; directional: unit direction
+  double Length; // directional: the given direction's length
+  double Diffuse, Specular;
+};
+} // namespace detail
+
 /// The difference of c(x) = max(0, cos x)^power over a cone: SRCC eq. (7) in one formula.
 /// `cosA`, `sinA`: the angle between the light (or half) vector and the axis; cone angle theta.
 double ConeCosineSpread(double cosA, double sinA, double cosT, double sinT, double power);
@@ -447,10 +461,12 @@ private:
 
   OctreeView View;
   std::vector<Entry> Stack;
-  std::vector<Candidate> Queue; // the budget walk's max-heap
+  std::vector<Candidate> Queue;     // the budget walk's max-heap
+  std::vector<Candidate> QueueRest; // SkipMisfits' last pass: the queue it reads
   std::vector<WaitingCell> Waiting;
   std::vector<float> SinTheta, CosTheta;
-  std::vector<int32_t> Previous; // nodes of the previous cut
+  std::vector<detail::PreparedLight> FrameLights; // the frame's lights (capacity kept)
+  std::vector<int32_t> Previous;                  // nodes of the previous cut
   /// Incremental selection: the previous cut's cells (a tolerance walk's, else empty), the
   /// triangles it counted, and per-node marks of the coarsening pass.
   std::vector<Entry> Front, NextFront;
