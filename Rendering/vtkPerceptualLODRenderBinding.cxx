@@ -203,7 +203,7 @@ void vtkPerceptualLODRenderBinding::OnWindowEnd(
   }
   if (self->FrameStarted)
   {
-    self->LastFrameCost = vtkTimerLog::GetUniversalTime() - self->FrameStart;
+    self->LastFrameCost = vtkTimerLog::GetUniversalTime() - self->PreviousStart;
     self->FrameCostPending = true;
     self->FrameStarted = false;
   }
@@ -244,6 +244,11 @@ void vtkPerceptualLODRenderBinding::SetTargetFrameTime(double seconds)
   {
     this->TargetFrameTime = seconds;
     this->Internals->Controller.Reset();
+    if (!(seconds > 0))
+    {
+      this->WatchWindow(nullptr); // no frame to time: no observer on the window's every render
+      this->FrameStarted = false;
+    }
     this->Modified();
   }
 }
@@ -460,8 +465,7 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
   }
   if (this->TargetFrameTime > 0)
   {
-    this->WatchWindow(ren->GetRenderWindow());
-    this->FrameStart = start;
+    this->WatchWindow(ren->GetRenderWindow()); // the frame ends there (PreviousStart: its start)
     this->FrameStarted = true;
   }
   ++this->NumberOfUpdates;

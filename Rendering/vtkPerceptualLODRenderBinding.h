@@ -195,7 +195,6 @@ protected:
   double TargetFrameTime = 0;
   vtkIdType MinimumTriangleBudget; // 1000
   vtkIdType MaximumTriangleBudget; // VTK_ID_MAX
-  double FrameStart = 0;
   double LastFrameCost = 0;
   bool FrameCostPending = false;
   bool FrameStarted = false;
