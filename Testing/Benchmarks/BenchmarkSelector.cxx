@@ -254,19 +254,16 @@ void BM_SelectBudget(benchmark::State& state)
   selector->SetTriangleBudget(budget);
   selector->SetBudgetStopRule(rule);
   Orbit orbit;
-  double visited = 0, seconds = 0, binding = 0, frames = 0, fill = 0;
+  SelectTimes times;
+  double binding = 0, frames = 0, fill = 0;
   for (auto _ : state)
   {
-    orbit.Next(selector);
-    selector->Update();
-    state.SetIterationTime(selector->GetSelectTime());
-    visited += static_cast<double>(selector->GetNumberOfVisitedNodes());
-    seconds += selector->GetSelectTime();
+    times.Frame(state, selector, orbit);
     binding += selector->GetBudgetWasBinding() ? 1 : 0;
     fill += double(selector->GetNumberOfBudgetTriangles()) / double(budget);
     ++frames;
   }
-  state.counters["Mvisited/s"] = visited / seconds * 1e-6;
+  times.Report(state);
   state.counters["visited"] = static_cast<double>(selector->GetNumberOfVisitedNodes());
   state.counters["drawn"] = static_cast<double>(selector->GetNumberOfDrawnNodes());
   state.counters["triangles"] = static_cast<double>(selector->GetNumberOfBudgetTriangles());
