@@ -41,17 +41,15 @@ constexpr int CoordinatesPerTriangle = 9;
 /// The triangles of a vtkPolyData's polygons (fans) and strips, as point ids. Ghost cells (the
 /// cell array vtkGhostType: a copy of another rank's cell, or a hidden cell) are left out: the
 /// rank that owns a cell sends it.
-void CollectTriangles(vtkPolyData* input, std::vector<vtkIdType>& triangles, vtkIdType& ghosts)
+void CollectTriangles(vtkPolyData* input, std::vector<vtkIdType>& triangles)
 {
   vtkUnsignedCharArray* ghostCells = input->GetCellData()->GetGhostArray();
   const unsigned char skip = vtkDataSetAttributes::DUPLICATECELL | vtkDataSetAttributes::HIDDENCELL;
   // cell ids run over vertices, lines, polygons and strips, in that order
   vtkIdType cellId = input->GetNumberOfVerts() + input->GetNumberOfLines();
   auto isGhost = [&](vtkIdType id) {
-    const bool ghost =
-      ghostCells && id < ghostCells->GetNumberOfValues() && (ghostCells->GetValue(id) & skip) != 0;
-    ghosts += ghost;
-    return ghost;
+    return ghostCells && id < ghostCells->GetNumberOfValues() &&
+      (ghostCells->GetValue(id) & skip) != 0;
   };
   vtkIdType n;
   const vtkIdType* ids;
@@ -145,10 +143,9 @@ int vtkPerceptualLODRedistribution::RequestData(
   // --- this rank's triangles, with their corners' coordinates (and normals)
   std::vector<vtkIdType> local;
   vtkPoints* inPoints = input ? input->GetPoints() : nullptr;
-  vtkIdType ghostCells = 0;
   if (input && inPoints)
   {
-    CollectTriangles(input, local, ghostCells);
+    CollectTriangles(input, local);
   }
   const vtkIdType localTriangles = static_cast<vtkIdType>(local.size() / 3);
   vtkDataArray* inNormals = input ? input->GetPointData()->GetNormals() : nullptr;
@@ -201,21 +198,21 @@ int vtkPerceptualLODRedistribution::RequestData(
 
   // --- 1. the global bounds and the root cube
   double globalLo[3], globalHi[3];
-  long long counts[2] = { localTriangles - skipped, 0 }, globalCounts[2] = { 0, 0 };
+  long long count = localTriangles - skipped, globalCount = 0;
   if (controller && ranks > 1)
   {
     controller->AllReduce(lo, globalLo, 3, vtkCommunicator::MIN_OP);
     controller->AllReduce(hi, globalHi, 3, vtkCommunicator::MAX_OP);
-    controller->AllReduce(counts, globalCounts, 2, vtkCommunicator::SUM_OP);
+    controller->AllReduce(&count, &globalCount, 1, vtkCommunicator::SUM_OP);
     controller->AllReduce(&haveNormals, &allHaveNormals, 1, vtkCommunicator::MIN_OP);
   }
   else
   {
     std::copy(lo, lo + 3, globalLo);
     std::copy(hi, hi + 3, globalHi);
-    globalCounts[0] = counts[0];
+    globalCount = count;
   }
-  if (globalCounts[0] == 0)
+  if (globalCount == 0)
   {
     vtkWarningMacro("No rank holds a triangle: nothing to share out (point clouds are not "
                     "redistributed)");
