@@ -249,6 +249,7 @@ int vtkPerceptualLODSelector::RequestData(
     this->Internal->LastOutput->Initialize();
     this->NumberOfVisitedNodes = this->NumberOfCutNodes = this->NumberOfDrawnNodes = 0;
     this->NumberOfOpenedLeaves = 0;
+    this->NumberOfFoveationFactors = 0;
     this->BudgetWasBinding = false;
     this->NumberOfBudgetTriangles = 0;
     this->NumberOfWaitingTriangles = 0;
@@ -555,6 +556,7 @@ int vtkPerceptualLODSelector::RequestData(
   this->NumberOfCutNodes = stats.InCut;
   this->NumberOfDrawnNodes = stats.Drawn;
   this->NumberOfOpenedLeaves = stats.Opened;
+  this->NumberOfFoveationFactors = stats.FoveationFactors;
   this->NumberOfTopologyRefinedNodes = stats.TopologyRefined;
   this->BudgetWasBinding = stats.BudgetBinding;
   this->NumberOfBudgetTriangles = stats.BudgetTriangles;
@@ -614,7 +616,7 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Last: " << this->NumberOfVisitedNodes << " visited, " << this->NumberOfCutNodes
      << " in the cut, " << this->NumberOfDrawnNodes << " drawn, " << this->SelectTime * 1e3
      << " ms, object speed " << this->ObjectSpeed << " px, distance level " << this->DistanceLevel
-     << ", " << this->NumberOfBudgetTriangles << " triangles"
-     << (this->BudgetWasBinding ? " (the budget was binding)" : "") << ", "
-     << this->NumberOfWaitingTriangles << " waiting\n";
+     << ", " << this->NumberOfBudgetTriangles << " triangles, " << this->NumberOfFoveationFactors
+     << " foveation factors computed" << (this->BudgetWasBinding ? " (the budget was binding)" : "")
+     << ", " << this->NumberOfWaitingTriangles << " waiting\n";
 }

@@ -461,6 +461,10 @@ public:
   /// Leaves drawn at full resolution, and cells refined only for their topology.
   vtkGetMacro(NumberOfOpenedLeaves, vtkIdType);
   vtkGetMacro(NumberOfTopologyRefinedNodes, vtkIdType);
+  /// Cells whose foveation factor exp(FoveationRate D) was computed. With screen foveation the
+  /// walk first bounds it from a table and computes it only where a test falls within the
+  /// bounds (a fraction of a percent of the cells; the cut is the same to the bit).
+  vtkGetMacro(NumberOfFoveationFactors, vtkIdType);
   /**
    * Why the last cut draws no triangle, or an empty string when it draws some: the model is
    * outside the frustum; every cell faces away; or the root alone was accepted (it is one
@@ -532,6 +536,7 @@ protected:
   vtkIdType NumberOfDrawnNodes;
   vtkIdType NumberOfOpenedLeaves;
   vtkIdType NumberOfTopologyRefinedNodes;
+  vtkIdType NumberOfFoveationFactors = 0;
   bool BudgetWasBinding;
   vtkIdType NumberOfBudgetTriangles;
   vtkIdType NumberOfWaitingTriangles;

@@ -54,16 +54,56 @@ inline double PositivePower(double x, double power)
   return std::pow(x, power);
 }
 
+/// The integer exponent PositivePower raises to by repeated squaring, or -1 when `power` is
+/// not one (std::pow then).
+inline int IntegerPower(double power)
+{
+  return power >= 0 && power <= 65536 && power == std::floor(power) ? int(power) : -1;
+}
+
+/// PositivePower of two numbers at once, for an integer exponent `e` (IntegerPower): the same
+/// products in the same order as PositivePower, so the same results to the bit, with the two
+/// chains interleaved and the exponent's checks made once a frame (measured: the specular
+/// powers were the SRCC walk's most expensive line).
+inline void PositivePowers(double x1, double x2, int e, double& r1, double& r2)
+{
+  double b1 = std::min(1.0, std::max(0.0, x1)), b2 = std::min(1.0, std::max(0.0, x2));
+  r1 = 1.0;
+  r2 = 1.0;
+  for (unsigned bits = unsigned(e); bits; bits >>= 1)
+  {
+    if (bits & 1u)
+    {
+      r1 *= b1;
+      r2 *= b2;
+    }
+    b1 *= b1;
+    b2 *= b2;
+  }
+}
+
 /// ConeCosineRange's body, which the walks inline (an exported function of a shared library is
 /// not inlined: it could be interposed; measured, the call took 10 % of the SRCC walk).
-inline void ConeRange(
-  double cosA, double sinA, double cosT, double sinT, double power, double& high, double& low)
+/// `integerPower`: IntegerPower(power), known to the caller.
+inline void ConeRange(double cosA, double sinA, double cosT, double sinT, double power,
+  double& high, double& low, int integerPower)
 {
   // highest: the smallest angle max(0, a - theta); lowest: the largest angle min(pi, a + theta)
   const double cLo = cosA >= cosT ? 1.0 : cosA * cosT + sinA * sinT;
   const double cHi = cosA <= -cosT ? -1.0 : cosA * cosT - sinA * sinT;
+  if (integerPower >= 0 && power != 1.0)
+  {
+    PositivePowers(cLo, cHi, integerPower, high, low);
+    return;
+  }
   high = PositivePower(cLo, power);
   low = PositivePower(cHi, power);
+}
+
+inline void ConeRange(
+  double cosA, double sinA, double cosT, double sinT, double power, double& high, double& low)
+{
+  ConeRange(cosA, sinA, cosT, sinT, power, high, low, -1);
 }
 
 /// ChengAccepts' body, inlined by the walks (as ConeRange).
@@ -222,6 +262,7 @@ struct Decision
   bool Floor;          ///< Refine: minimum level or eye inside: refined whatever the budget
   bool Topology;       ///< Refine: only because it is not topologically safe
   double Priority;     ///< Refine, when asked for: how far its error exceeds its tolerance
+  bool Factor = false; ///< the foveation factor was computed (SelectionStats::FoveationFactors)
 };
 
 inline Decision Hide(CutReason reason, uint8_t outside)
@@ -258,6 +299,8 @@ struct Frame
   bool Cheng;
   double Dop[3];
   bool AnySpecular;
+  /// IntegerPower(specular power): the exponent's checks made once a frame
+  int SpecularExponent;
   /// Cell edge per level (RootEdge / 2^level, exact).
   double Edge[MaxFinestLevel + 1];
   /// Per frustum plane and axis: 1 where the normal's component is positive, else 0. The corner
@@ -267,7 +310,50 @@ struct Frame
   /// The lights, prepared once a frame (the selector's storage, kept from frame to frame).
   using Light = detail::PreparedLight;
   const std::vector<Light>& Lights;
+  /// Screen foveation's table (FoveaTable), or null: the factor is computed at every cell.
+  const double* Fovea = nullptr;
+  /// The gaze direction as a unit vector (with Fovea).
+  double Gaze[3] = { 0, 0, 0 };
 };
+
+/**
+ * Screen foveation multiplies a cell's tolerances by exp(K D), D = theta / pi, theta the angle
+ * between its view ray and the gaze: an arctangent and an exponential at every cell, a third
+ * of the foveated walk's time (perf). Yet a decision compares errors against those tolerances, and
+ * most errors are far from them. So the walk first bounds the factor: with w = sin(theta / 2) =
+ * sqrt((1 - cos theta) / 2) (one square root of the cosine it has), exp(K 2 asin(w) / pi) is
+ * monotone in w, and FoveaSize + 1 values of it at w = j / FoveaSize bound it on each interval.
+ * The cell's index is widened by one interval on each side (w's rounding is far smaller), and
+ * the bounds by a relative 1e-12 (the exponential's and the arctangent's own rounding). Each
+ * test is made at both ends of the range; only when they disagree is the factor computed, and
+ * the decision made again with it: the cut is the exact one, to the bit. Measured on the
+ * benchmark scene (docs/benchmarks.md). Built for one rate at a time; |K| <= FoveaMaxRate (the
+ * table's values stay finite), a finite velocity factor and a non-zero gaze, else every cell
+ * computes its factor.
+ */
+constexpr int FoveaSize = 1024;
+constexpr double FoveaMaxRate = 512;
+
+/// Fills `table` for the rate `rate` (FoveaSize + 1 values).
+void FillFoveaTable(double rate, std::vector<double>& table)
+{
+  table.resize(FoveaSize + 1);
+  for (int j = 0; j <= FoveaSize; ++j)
+    table[j] = std::exp(rate * 2.0 * std::asin(double(j) / FoveaSize) / Pi);
+}
+
+/// The range [range[0], range[1]] of the foveation factor exp(K D) of a cell whose unit vector
+/// to the eye is `ve` (the factor foveate() computes lies within it).
+inline void FoveaRange(const Frame& f, const double ve[3], double range[2])
+{
+  // cos theta between the view ray (-ve) and the gaze
+  const double u = -Dot(ve, f.Gaze);
+  const double w = std::sqrt(std::min(1.0, std::max(0.0, 0.5 * (1.0 - u))));
+  const int j = std::min(FoveaSize - 1, static_cast<int>(w * FoveaSize));
+  const double a = f.Fovea[std::max(0, j - 1)], b = f.Fovea[std::min(FoveaSize, j + 2)];
+  range[0] = std::min(a, b) * (1.0 - 1e-12);
+  range[1] = std::max(a, b) * (1.0 + 1e-12);
+}
 
 /// The unit vector from `x` to the light `l` in `vl`; returns the distance (directional: the
 /// given direction's length). 0: the light is on `x` (or has no direction), `vl` is not a unit
@@ -288,7 +374,8 @@ inline double ToLight(const Frame::Light& l, const double x[3], double vl[3])
 
 /// The frame's constants; `lights` receives the prepared lights (its capacity is kept).
 Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const float* sinTheta,
-  const float* cosTheta, std::vector<detail::PreparedLight>& lights)
+  const float* cosTheta, std::vector<detail::PreparedLight>& lights,
+  detail::FoveaTable* fovea = nullptr)
 {
   const bool srcc = in.Error == ErrorModel::SRCC;
   const bool micro = in.Motion == MotionModel::MicroMotion;
@@ -302,7 +389,7 @@ Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const float* sinT
     in.Velocity == VelocityCriterion::Alone;
   const bool cheng = in.Error == ErrorModel::Cheng && !velocityAlone;
   Frame f{ v, in, sinTheta, cosTheta, srcc, micro, velocity, velocityAlone, cheng, { 0, 0, -1 },
-    false, {}, {}, lights };
+    false, IntegerPower(in.SpecularPower), {}, {}, lights };
   lights.clear();
   if (in.Parallel)
   {
@@ -328,6 +415,21 @@ Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const float* sinT
   for (int p = 0; p < 6; ++p)
     for (int a = 0; a < 3; ++a)
       f.PlaneUp[p][a] = in.Planes[p][a] > 0 ? 1.0 : 0.0;
+  // screen foveation's table (FoveaTable), where it bounds the factor
+  const double gaze = std::sqrt(Dot(in.GazeDirection, in.GazeDirection));
+  if (fovea && in.Foveation == FoveationMode::Screen && !cheng && std::isfinite(velocity) &&
+    std::abs(in.FoveationRate) <= FoveaMaxRate && gaze > 0 && std::isfinite(gaze))
+  {
+    if (!fovea->Built || fovea->Rate != in.FoveationRate)
+    {
+      FillFoveaTable(in.FoveationRate, fovea->Values);
+      fovea->Rate = in.FoveationRate;
+      fovea->Built = true;
+    }
+    f.Fovea = fovea->Values.data();
+    for (int a = 0; a < 3; ++a)
+      f.Gaze[a] = in.GazeDirection[a] / gaze;
+  }
   return f;
 }
 
@@ -414,11 +516,25 @@ template <bool WithPriority>
     k = in.PixelScale * inverse;
   }
 
-  // tolerance factor: velocity (IPV/DPV) and foveation
+  const double cosT = f.CosTheta[n], sinT = f.SinTheta[n];
+  const double c = Dot(axis, ve);
+  // 2a. SRCC's back faces (the contour test's first case) need no tolerance: decided before the
+  // foveation's factor is bounded or computed (measured: +9 % on the foveated benchmark, when
+  // every cell computed it)
+  if (f.Srcc && !f.VelocityAlone && !brightnessOnly && cosT > 0 && c < -sinT)
+  {
+    if (in.HideBackFaces)
+      return Hide(BackFacing, 0);
+    return Draw(BackFacing); // an open surface: seen from behind, drawn but not refined
+  }
+
+  // tolerance factor: velocity (IPV/DPV) and foveation, computed by foveate() when a decision
+  // needs it exactly (see FoveaTable)
   double factor = f.Velocity;
   double D = 0; // Cheng's normalised distance from the point of interest
-  if (in.Foveation != FoveationMode::Off)
-  {
+  auto foveate = [&]() {
+    if (in.Foveation == FoveationMode::Off)
+      return;
     if (in.Foveation == FoveationMode::Object)
     {
       const double* up = in.FoveationUp;
@@ -451,210 +567,246 @@ template <bool WithPriority>
     }
     if (!f.Cheng)
       factor *= std::exp(in.FoveationRate * D);
-  }
-  const double cosT = f.CosTheta[n], sinT = f.SinTheta[n];
+  };
   if (f.Cheng)
   {
+    foveate();
     // Cheng §2 alone: curvature against the foveated threshold exp(-K D)
     if (ChengTest(cosT, sinT, in.FoveationRate, D))
       return Draw(AcceptedError);
     return Refine(false, WithPriority ? ChengExcess(cosT, sinT, in.FoveationRate, D) : 0.0);
   }
-  // a tolerance of 0 accepts nothing (even an error of exactly 0)
-  const double Ts = in.ContourTolerance > 0 ? in.ContourTolerance * factor : -1.0;
-  const double Tb = in.BrightnessTolerance > 0 ? in.BrightnessTolerance * factor : -1.0;
+  // the decisions that read the tolerances, for a factor known to lie in [lo, hi] (Interval) or
+  // known exactly (lo = hi = factor)
+  auto tail = [&](auto interval, double lo, double hi, bool& ambiguous) -> Decision {
+    constexpr bool Interval = decltype(interval)::value;
+    // a tolerance of 0 accepts nothing (even an error of exactly 0). Ts, Tb: at the low end of
+    // the factor's range; TsHi, TbHi: at the high end (exact: the same)
+    const double Ts = in.ContourTolerance > 0 ? in.ContourTolerance * lo : -1.0;
+    const double Tb = in.BrightnessTolerance > 0 ? in.BrightnessTolerance * lo : -1.0;
+    const double TsHi = in.ContourTolerance > 0 ? in.ContourTolerance * hi : -1.0;
+    const double TbHi = in.BrightnessTolerance > 0 ? in.BrightnessTolerance * hi : -1.0;
+    // x <= T and x > T for a tolerance T known to lie in [tLo, tHi]: decided at tLo, and
+    // `ambiguous` when tHi decides otherwise (both tests are monotone in T)
+    auto atMost = [&](double x, double tLo, double tHi) {
+      const bool r = x <= tLo;
+      if constexpr (Interval)
+        ambiguous = ambiguous || r != (x <= tHi);
+      return r;
+    };
+    auto above = [&](double x, double tLo, double tHi) {
+      const bool r = x > tLo;
+      if constexpr (Interval)
+        ambiguous = ambiguous || r != (x > tHi);
+      return r;
+    };
 
-  const double dE = v.ShapeError[n];
-  const double c = Dot(axis, ve);
-  // v_f = A v + b (micro motion)
-  double vfm[3] = { 0, 0, 0 };
-  if (f.Micro)
-  {
-    for (int a = 0; a < 3; ++a)
-      vfm[a] =
-        in.MotionA[a][0] * x[0] + in.MotionA[a][1] * x[1] + in.MotionA[a][2] * x[2] + in.MotionB[a];
-  }
-
-  // a cell that is not a union of discs is refined while the part it could make vanish is
-  // thicker than a pixel (its tolerance follows motion and foveation like the others: DPV's
-  // infinite factor still accepts the root alone)
-  const bool unsafe =
-    !(v.Flags[n] & NodeTopologySafe) && double(v.Thickness[n]) * k > in.TopologyTolerance * factor;
-  // a cell whose edge projects within the contour tolerance cannot show more than it: its
-  // points lie within that many pixels of its vertex (the size floor of every mode)
-  const bool small = Ts >= 0 && h * k <= Ts && !unsafe;
-
-  if (f.VelocityAlone)
-  {
-    if (small)
-      return Draw(AcceptedSize);
-    return Refine(
-      false, WithPriority ? (unsafe ? Infinite : Over(h * k, Ts)) : 0.0, Ts >= 0 && h * k <= Ts);
-  }
-
-  if (!f.Srcc)
-  {
-    if (small && in.Error != ErrorModel::Distance)
+    const double dE = v.ShapeError[n];
+    // v_f = A v + b (micro motion)
+    double vfm[3] = { 0, 0, 0 };
+    if (f.Micro)
     {
-      return Draw(AcceptedSize);
+      for (int a = 0; a < 3; ++a)
+        vfm[a] = in.MotionA[a][0] * x[0] + in.MotionA[a][1] * x[1] + in.MotionA[a][2] * x[2] +
+          in.MotionB[a];
     }
-    if (in.Error == ErrorModel::Distance)
+
+    // a cell that is not a union of discs is refined while the part it could make vanish is
+    // thicker than a pixel (its tolerance follows motion and foveation like the others: DPV's
+    // infinite factor still accepts the root alone)
+    const bool unsafe = !(v.Flags[n] & NodeTopologySafe) &&
+      above(double(v.Thickness[n]) * k, in.TopologyTolerance * lo, in.TopologyTolerance * hi);
+    // a cell whose edge projects within the contour tolerance cannot show more than it: its
+    // points lie within that many pixels of its vertex (the size floor of every mode)
+    const bool sizeWithin = Ts >= 0 && atMost(h * k, Ts, TsHi);
+    const bool small = sizeWithin && !unsafe;
+
+    if (f.VelocityAlone)
     {
-      if (level >= in.DistanceLevel && !unsafe)
-        return Draw(AcceptedError);
-      // the cell's edge over the edge of the level Wang & Sato chose
-      return Refine(false,
-        WithPriority ? (unsafe ? Infinite : std::ldexp(1.0, in.DistanceLevel - level)) : 0.0);
+      if (small)
+        return Draw(AcceptedSize);
+      return Refine(false, WithPriority ? (unsafe ? Infinite : Over(h * k, Ts)) : 0.0, sizeWithin);
     }
-    double tol = Ts;
-    if (in.Error == ErrorModel::PSEC)
+
+    if (!f.Srcc)
     {
-      bool feature = !(cosT > 0 && (c > sinT || c < -sinT)); // on the contour
-      for (size_t i = 0; i < f.Lights.size() && !feature && f.AnySpecular; ++i)
+      if (small && in.Error != ErrorModel::Distance)
       {
-        const Frame::Light& l = f.Lights[i];
-        if (l.Specular <= 0)
-          continue;
-        double vl[3];
-        const double ll = ToLight(l, x, vl);
-        if (!(ll > 0))
-        {
-          feature = true;
-          break;
-        }
-        double hv[3];
-        for (int a = 0; a < 3; ++a)
-          hv[a] = vl[a] + ve[a];
-        const double hl = std::sqrt(Dot(hv, hv));
-        feature = hl > 0 && Dot(axis, hv) / hl >= cosT;
+        return Draw(AcceptedSize);
       }
-      if (feature)
-        tol *= in.PSECFactor;
-    }
-    const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
-    if (err <= tol && !unsafe)
-      return Draw(AcceptedError);
-    return Refine(false, WithPriority ? (unsafe ? Infinite : Over(err, tol)) : 0.0, err <= tol);
-  }
-
-  // 3. brightness (SRCC eq. 7-10, TMM eq. 11-13): the shading error in brightness x pixels,
-  // dB x projected size (computed only when a decision needs it)
-  auto shading = [&]() {
-    double dB = 0;
-    if (!in.Lights.empty())
-    {
-      // TMM eq. (9): the octree's (min, max) reflectances; one material: min = max
-      const double MdMin = in.UseOctreeMaterial ? v.Diffuse[2 * n] : in.Diffuse;
-      const double MdMax = in.UseOctreeMaterial ? v.Diffuse[2 * n + 1] : in.Diffuse;
-      const double MsMin = in.UseOctreeMaterial ? v.Specular[2 * n] : in.Specular;
-      const double MsMax = in.UseOctreeMaterial ? v.Specular[2 * n + 1] : in.Specular;
-      for (const Frame::Light& l : f.Lights)
+      if (in.Error == ErrorModel::Distance)
       {
-        if (dB >= 1.0)
+        if (level >= in.DistanceLevel && !unsafe)
+          return Draw(AcceptedError);
+        // the cell's edge over the edge of the level Wang & Sato chose
+        return Refine(false,
+          WithPriority ? (unsafe ? Infinite : std::ldexp(1.0, in.DistanceLevel - level)) : 0.0);
+      }
+      double tol = Ts, tolHi = TsHi;
+      if (in.Error == ErrorModel::PSEC)
+      {
+        bool feature = !(cosT > 0 && (c > sinT || c < -sinT)); // on the contour
+        for (size_t i = 0; i < f.Lights.size() && !feature && f.AnySpecular; ++i)
         {
-          break; // a rendered pixel saturates at 1: no cell can vary by more (see below)
-        }
-        double vl[3];
-        const double ll = ToLight(l, x, vl);
-        if (!(ll > 0))
-        {
-          // a light on the vertex lights every direction: the largest variation
-          dB += MdMax * l.Diffuse + MsMax * l.Specular;
-          continue;
-        }
-        double high, low;
-        if (MdMax > 0 && l.Diffuse > 0)
-        {
-          const double ca = Dot(axis, vl);
-          ConeRange(ca, std::sqrt(std::max(0.0, 1 - ca * ca)), cosT, sinT, 1.0, high, low);
-          dB += BrightnessChange(MdMin, MdMax, l.Diffuse, high, low);
-        }
-        if (MsMax > 0 && l.Specular > 0)
-        {
+          const Frame::Light& l = f.Lights[i];
+          if (l.Specular <= 0)
+            continue;
+          double vl[3];
+          const double ll = ToLight(l, x, vl);
+          if (!(ll > 0))
+          {
+            feature = true;
+            break;
+          }
           double hv[3];
           for (int a = 0; a < 3; ++a)
             hv[a] = vl[a] + ve[a];
           const double hl = std::sqrt(Dot(hv, hv));
-          high = 1.0; // light opposite the eye: no defined half vector
-          low = 0.0;
-          if (hl > 0)
-          {
-            const double cb = Dot(axis, hv) / hl;
-            ConeRange(
-              cb, std::sqrt(std::max(0.0, 1 - cb * cb)), cosT, sinT, in.SpecularPower, high, low);
-          }
-          dB += BrightnessChange(MsMin, MsMax, l.Specular, high, low);
+          feature = hl > 0 && Dot(axis, hv) / hl >= cosT;
+        }
+        if (feature)
+        {
+          tol *= in.PSECFactor;
+          tolHi *= in.PSECFactor;
         }
       }
-    }
-    // The rendered brightness saturates at 1, so a cell's visible variation is at most 1 however
-    // many bright lights add up (1,000 lights of intensity 1 took 26 s a selection: every cell
-    // refined to the finest level, every light summed at every node).
-    dB = std::min(dB, 1.0);
-    // projected cell size, reduced by the motion across the view (v_d: n projected on the
-    // plane normal to v_e; zero when n is parallel to v_e)
-    double size = h * std::max(0.0, c);
-    if (f.Micro)
-    {
-      double vd[3];
-      for (int a = 0; a < 3; ++a)
-        vd[a] = axis[a] - c * ve[a];
-      const double vdl = std::sqrt(Dot(vd, vd));
-      if (vdl > 1e-12)
-        size = std::max(0.0, size - std::abs(Dot(vd, vfm)) / vdl);
-    }
-    return dB * size * k;
-  };
-  // a refinement for the contour (or a rim) is ranked by the larger of its errors over their
-  // tolerances: the contour's and the brightness'. The brightness error is at most
-  // h max(0, c) k (dB <= 1, motion only shrinks the size): when that bound cannot exceed the
-  // contour's ratio, the shading is not computed (measured: 30 % more ConeCosineRange calls)
-  auto contourPriority = [&](double overContour) {
-    if (unsafe || !(Tb > 0))
-      return Infinite;
-    if (h * std::max(0.0, c) * k <= overContour * Tb)
-      return overContour;
-    return std::max(overContour, Over(shading(), Tb));
-  };
-
-  // 2. contour (SRCC eq. 4-5, TMM eq. 6-7)
-  CutReason accepted = AcceptedBrightness;
-  if (!brightnessOnly)
-  {
-    if (cosT > 0 && c < -sinT)
-    {
-      if (in.HideBackFaces)
-        return Hide(BackFacing, 0);
-      return Draw(BackFacing); // an open surface: seen from behind, drawn but not refined
-    }
-    if (small)
-    {
-      return Draw(AcceptedSize);
-    }
-    // an open surface's rim is a silhouette from every side: refined like the contour, until
-    // its edge passes the size floor
-    if (v.Flags[n] & NodeBoundary)
-    {
-      return Refine(false, WithPriority ? contourPriority(Over(h * k, Ts)) : 0.0);
-    }
-    if (!(cosT > 0 && c > sinT))
-    {
       const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
-      if (err > Ts)
-      {
-        return Refine(false, WithPriority ? contourPriority(Over(err, Ts)) : 0.0);
-      }
-      accepted = AcceptedContour;
+      const bool within = atMost(err, tol, tolHi);
+      if (within && !unsafe)
+        return Draw(AcceptedError);
+      return Refine(false, WithPriority ? (unsafe ? Infinite : Over(err, tol)) : 0.0, within);
     }
-  }
-  if (unsafe)
+
+    // 3. brightness (SRCC eq. 7-10, TMM eq. 11-13): the shading error in brightness x pixels,
+    // dB x projected size (computed only when a decision needs it)
+    auto shading = [&]() {
+      double dB = 0;
+      if (!in.Lights.empty())
+      {
+        // TMM eq. (9): the octree's (min, max) reflectances; one material: min = max
+        const double MdMin = in.UseOctreeMaterial ? v.Diffuse[2 * n] : in.Diffuse;
+        const double MdMax = in.UseOctreeMaterial ? v.Diffuse[2 * n + 1] : in.Diffuse;
+        const double MsMin = in.UseOctreeMaterial ? v.Specular[2 * n] : in.Specular;
+        const double MsMax = in.UseOctreeMaterial ? v.Specular[2 * n + 1] : in.Specular;
+        for (const Frame::Light& l : f.Lights)
+        {
+          if (dB >= 1.0)
+          {
+            break; // a rendered pixel saturates at 1: no cell can vary by more (see below)
+          }
+          double vl[3];
+          const double ll = ToLight(l, x, vl);
+          if (!(ll > 0))
+          {
+            // a light on the vertex lights every direction: the largest variation
+            dB += MdMax * l.Diffuse + MsMax * l.Specular;
+            continue;
+          }
+          double high, low;
+          if (MdMax > 0 && l.Diffuse > 0)
+          {
+            const double ca = Dot(axis, vl);
+            ConeRange(ca, std::sqrt(std::max(0.0, 1 - ca * ca)), cosT, sinT, 1.0, high, low);
+            dB += BrightnessChange(MdMin, MdMax, l.Diffuse, high, low);
+          }
+          if (MsMax > 0 && l.Specular > 0)
+          {
+            double hv[3];
+            for (int a = 0; a < 3; ++a)
+              hv[a] = vl[a] + ve[a];
+            const double hl = std::sqrt(Dot(hv, hv));
+            high = 1.0; // light opposite the eye: no defined half vector
+            low = 0.0;
+            if (hl > 0)
+            {
+              const double cb = Dot(axis, hv) / hl;
+              ConeRange(cb, std::sqrt(std::max(0.0, 1 - cb * cb)), cosT, sinT, in.SpecularPower,
+                high, low, f.SpecularExponent);
+            }
+            dB += BrightnessChange(MsMin, MsMax, l.Specular, high, low);
+          }
+        }
+      }
+      // The rendered brightness saturates at 1, so a cell's visible variation is at most 1 however
+      // many bright lights add up (1,000 lights of intensity 1 took 26 s a selection: every cell
+      // refined to the finest level, every light summed at every node).
+      dB = std::min(dB, 1.0);
+      // projected cell size, reduced by the motion across the view (v_d: n projected on the
+      // plane normal to v_e; zero when n is parallel to v_e)
+      double size = h * std::max(0.0, c);
+      if (f.Micro)
+      {
+        double vd[3];
+        for (int a = 0; a < 3; ++a)
+          vd[a] = axis[a] - c * ve[a];
+        const double vdl = std::sqrt(Dot(vd, vd));
+        if (vdl > 1e-12)
+          size = std::max(0.0, size - std::abs(Dot(vd, vfm)) / vdl);
+      }
+      return dB * size * k;
+    };
+    // a refinement for the contour (or a rim) is ranked by the larger of its errors over their
+    // tolerances: the contour's and the brightness'. The brightness error is at most
+    // h max(0, c) k (dB <= 1, motion only shrinks the size): when that bound cannot exceed the
+    // contour's ratio, the shading is not computed (measured: 30 % more ConeCosineRange calls)
+    auto contourPriority = [&](double overContour) {
+      if (unsafe || !(Tb > 0))
+        return Infinite;
+      if (h * std::max(0.0, c) * k <= overContour * Tb)
+        return overContour;
+      return std::max(overContour, Over(shading(), Tb));
+    };
+
+    // 2. contour (SRCC eq. 4-5, TMM eq. 6-7)
+    CutReason accepted = AcceptedBrightness;
+    if (!brightnessOnly)
+    {
+      // (back faces were decided above, step 2a)
+      if (small)
+      {
+        return Draw(AcceptedSize);
+      }
+      // an open surface's rim is a silhouette from every side: refined like the contour, until
+      // its edge passes the size floor
+      if (v.Flags[n] & NodeBoundary)
+      {
+        return Refine(false, WithPriority ? contourPriority(Over(h * k, Ts)) : 0.0);
+      }
+      if (!(cosT > 0 && c > sinT))
+      {
+        const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
+        if (above(err, Ts, TsHi))
+        {
+          return Refine(false, WithPriority ? contourPriority(Over(err, Ts)) : 0.0);
+        }
+        accepted = AcceptedContour;
+      }
+    }
+    if (unsafe)
+    {
+      return Refine(brightnessOnly, Infinite, true);
+    }
+    const double shadingError = shading();
+    if (atMost(shadingError, Tb, TbHi))
+      return Draw(accepted);
+    return Refine(true, WithPriority ? Over(shadingError, Tb) : 0.0);
+  };
+  bool ambiguous = false;
+  if (!WithPriority && f.Fovea)
   {
-    return Refine(brightnessOnly, Infinite, true);
+    // screen foveation: the factor's range from the table, without the angle and exponential;
+    // exact only when some test falls inside the range (rare: see FoveaTable)
+    double range[2];
+    FoveaRange(f, ve, range);
+    const Decision d =
+      tail(std::true_type(), f.Velocity * range[0], f.Velocity * range[1], ambiguous);
+    if (!ambiguous)
+      return d;
   }
-  const double shadingError = shading();
-  if (shadingError <= Tb)
-    return Draw(accepted);
-  return Refine(true, WithPriority ? Over(shadingError, Tb) : 0.0);
+  foveate();
+  Decision d = tail(std::false_type(), factor, factor, ambiguous);
+  d.Factor = in.Foveation != FoveationMode::Off;
+  return d;
 }
 
 /// Writes cut entries and counts them (both walks).
@@ -729,14 +881,15 @@ template <class EntryType>
     cut.Add(e.Node, CutDrawn, AcceptedError);
     return 0;
   }
-  for (int c = 7, k = __builtin_popcount(r.Mask) - 1; c >= 0; --c)
+  // the children from the last (highest octant) to the first, so that the first is walked
+  // first: over the set bits only (a test of each of the 8 bits mispredicts with the masks)
+  for (unsigned m = r.Mask, k = __builtin_popcount(r.Mask); m;)
   {
-    if (r.Mask & (1u << c))
-    {
-      stack.push_back({ r.First + k--,
-        { 2 * e.C[0] + (c & 1), 2 * e.C[1] + ((c >> 1) & 1), 2 * e.C[2] + ((c >> 2) & 1) },
-        brightnessOnly, inside });
-    }
+    const unsigned c = 31u - unsigned(__builtin_clz(m));
+    m ^= 1u << c;
+    stack.push_back({ r.First + int32_t(--k),
+      { 2 * e.C[0] + (c & 1), 2 * e.C[1] + ((c >> 1) & 1), 2 * e.C[2] + ((c >> 2) & 1) },
+      brightnessOnly, inside });
   }
   return r.Owned;
 }
@@ -900,6 +1053,7 @@ template <bool EveryTest, class EntryType>
     ++cut.Stats.Visited;
     uint8_t inside = e.Inside;
     const Decision d = Judge<false>(frame, e.Node, e.C, e.BrightnessOnly, inside);
+    cut.Stats.FoveationFactors += d.Factor ? 1 : 0;
     if (d.What != Verdict::Refine)
     {
       cut.Keep(e.Node, d);
@@ -923,8 +1077,8 @@ template <bool EveryTest, class EntryType>
 [[gnu::flatten]] void Selector::SelectDepthFirst(const SelectionInput& in, uint8_t* state,
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
-  const Frame frame =
-    MakeFrame(this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights);
+  const Frame frame = MakeFrame(
+    this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   // the walk's stack is a member: its capacity is kept from frame to frame
   std::vector<Entry>& stack = this->Stack;
@@ -942,7 +1096,7 @@ template <bool EveryTest, class EntryType>
 {
   const OctreeView& v = this->View;
   const Frame frame =
-    MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights);
+    MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
   this->Previous.clear(); // rebuilt below from the new front
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   std::vector<Entry>& stack = this->Stack;
@@ -1034,7 +1188,7 @@ template <bool EveryTest, class EntryType>
 {
   const OctreeView& v = this->View;
   const Frame frame =
-    MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights);
+    MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   std::vector<Entry>& stack = this->Stack;
   std::vector<Candidate>& queue = this->Queue;
@@ -1067,6 +1221,7 @@ template <bool EveryTest, class EntryType>
       ++stats.Visited;
       uint8_t inside = e.Inside;
       const Decision d = Judge<true>(frame, e.Node, e.C, e.BrightnessOnly, inside);
+      stats.FoveationFactors += d.Factor ? 1 : 0;
       if (d.What != Verdict::Refine)
       {
         cut.Keep(e.Node, d);

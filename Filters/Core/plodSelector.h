@@ -332,6 +332,10 @@ struct SelectionStats
   int64_t Drawn = 0;
   int64_t Opened = 0;          // leaves drawn at full resolution
   int64_t TopologyRefined = 0; // cells refined only because they are not topologically safe
+  /// Cells whose foveation factor exp(K D) was computed (angle and exponential). Screen
+  /// foveation's table bounds it first in the tolerance and incremental walks, and only cells
+  /// whose tests fall within the bounds compute it (plodSelector.cxx, FoveaTable).
+  int64_t FoveationFactors = 0;
   /// Triangles owned by the refined nodes and the opened leaves: what the cut draws at most
   /// (GeneratePatches may draw fewer: hidden cells, back faces, ghosts). Counted by both walks.
   int64_t BudgetTriangles = 0;
@@ -362,6 +366,15 @@ struct PreparedLight
   double P[3];   // positional: position; directional: unit direction
   double Length; // directional: the given direction's length
   double Diffuse, Specular;
+};
+
+/// Screen foveation's factor tabulated for one rate (plodSelector.cxx, FoveaTable), kept from
+/// frame to frame and rebuilt when the rate changes.
+struct FoveaTable
+{
+  std::vector<double> Values;
+  double Rate = 0;
+  bool Built = false;
 };
 } // namespace detail
 
@@ -466,7 +479,8 @@ private:
   std::vector<WaitingCell> Waiting;
   std::vector<float> SinTheta, CosTheta;
   std::vector<detail::PreparedLight> FrameLights; // the frame's lights (capacity kept)
-  std::vector<int32_t> Previous;                  // nodes of the previous cut
+  detail::FoveaTable Fovea;      // screen foveation's factor table (the walks' first bound)
+  std::vector<int32_t> Previous; // nodes of the previous cut
   /// Incremental selection: the previous cut's cells (a tolerance walk's, else empty), the
   /// triangles it counted, and per-node marks of the coarsening pass.
   std::vector<Entry> Front, NextFront;

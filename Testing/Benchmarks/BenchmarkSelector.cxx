@@ -188,6 +188,8 @@ void BM_Select(benchmark::State& state)
   state.counters["visited"] = static_cast<double>(selector->GetNumberOfVisitedNodes());
   state.counters["drawn"] = static_cast<double>(selector->GetNumberOfDrawnNodes());
   state.counters["triangles"] = static_cast<double>(selector->GetNumberOfBudgetTriangles());
+  if (mode == FOVEATED) // of the last frame: cells whose foveation factor was computed
+    state.counters["factors"] = static_cast<double>(selector->GetNumberOfFoveationFactors());
   state.SetLabel(std::string(Names[mode]) + " T_s=" + std::to_string(tolerance).substr(0, 4));
 }
 
@@ -357,6 +359,7 @@ BENCHMARK(BM_Select)
   ->ArgsProduct({ benchmark::CreateDenseRange(SRCC, FOVEATED, 1), { 100 } })
   ->Args({ SRCC, 25 })
   ->Args({ SRCC_TMM, 25 })
+  ->Args({ FOVEATED, 25 })
   ->UseManualTime()
   ->Unit(benchmark::kMillisecond);
 

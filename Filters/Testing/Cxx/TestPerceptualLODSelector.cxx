@@ -29,6 +29,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <iostream>
 #include <random>
 #include <sstream>
 
@@ -1174,6 +1175,113 @@ std::vector<std::pair<const char*, vtkSmartPointer<vtkPolyData>>> BudgetModels()
     { "soup", plodtest::MakeSoup(7, 500, 0.12) } };
 }
 } // namespace
+
+TEST(PerceptualLODSelector, ScreenFoveationTableGivesTheExactCut)
+{
+  // The tolerance walk bounds screen foveation's factor from a table and computes it only where
+  // a test falls within the bounds; the budget walk (a budget that does not bind) computes it at
+  // every cell. Over models, views, rates (negative, 0, large, beyond the table's 512), gazes
+  // (at the model, aside, away from it, none) and the modes that multiply tolerances by it,
+  // both give the same cut, node for node. The table spares most factors, yet the exact
+  // fallback is reached (the bounds are tight, not vacuous, and the test exercises both paths).
+  const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { -1.2, 0.3, 1.9 } };
+  const double rates[] = { -4, 0, 0.7, 3, 40, 512, 600 };
+  const std::vector<std::pair<const char*, std::function<void(plod::SelectionInput&)>>> modes = {
+    { "SRCC", [](plod::SelectionInput&) {} },
+    { "SRCC+TMM",
+      [](plod::SelectionInput& in) {
+        in.Motion = plod::MotionModel::MicroMotion;
+        in.MotionA[0][1] = 0.01;
+        in.MotionA[1][0] = -0.01;
+        in.MotionB[0] = 0.004;
+      } },
+    { "SCVC", [](plod::SelectionInput& in) { in.Error = plod::ErrorModel::SCVC; } },
+    { "PSEC", [](plod::SelectionInput& in) { in.Error = plod::ErrorModel::PSEC; } },
+    { "Distance",
+      [](plod::SelectionInput& in) {
+        in.Error = plod::ErrorModel::Distance;
+        in.DistanceLevel = 4;
+      } },
+    { "IPV",
+      [](plod::SelectionInput& in) {
+        in.Motion = plod::MotionModel::InverseVelocity;
+        in.VelocityFactor = 2;
+      } },
+    { "SRCC x IPV",
+      [](plod::SelectionInput& in) {
+        in.Motion = plod::MotionModel::InverseVelocity;
+        in.Velocity = plod::VelocityCriterion::ScalesErrorModel;
+        in.VelocityFactor = 1.5;
+      } },
+  };
+  int64_t tableVisited = 0, tableFactors = 0, cases = 0;
+  for (auto& model : BudgetModels())
+  {
+    BudgetScene scene(model.second, model.first == std::string("soup") ? 6 : 7);
+    const double* o = scene.View.Origin;
+    const double focus[3] = { o[0] + 0.5 * scene.View.RootEdge, o[1] + 0.5 * scene.View.RootEdge,
+      o[2] + 0.5 * scene.View.RootEdge };
+    for (const auto& eyeArray : eyes)
+    {
+      double eye[3] = { focus[0] + eyeArray[0], focus[1] + eyeArray[1], focus[2] + eyeArray[2] };
+      for (int gaze = 0; gaze < 4; ++gaze)
+      {
+        for (const double rate : rates)
+        {
+          for (const auto& mode : modes)
+          {
+            const std::string what = std::string(model.first) + " " + mode.first + " eye " +
+              std::to_string(eyeArray[0]) + " gaze " + std::to_string(gaze) + " rate " +
+              std::to_string(rate);
+            plod::SelectionInput in = scene.Look(eye, focus);
+            mode.second(in);
+            in.Foveation = plod::FoveationMode::Screen;
+            in.FoveationRate = rate;
+            GazeAtTheOrigin(in);
+            if (gaze == 1)
+            {
+              in.GazeDirection[0] += 0.3; // aside: the fovea on the model's edge
+              vtkMath::Normalize(in.GazeDirection);
+            }
+            else if (gaze == 2)
+            {
+              for (int a = 0; a < 3; ++a) // away: D near 1 everywhere
+                in.GazeDirection[a] = -in.GazeDirection[a];
+            }
+            else if (gaze == 3)
+            {
+              in.GazeDirection[0] = in.GazeDirection[1] = in.GazeDirection[2] = 0;
+            }
+            const plod::SelectionStats fast = scene.Select(in);
+            const auto state = scene.State, reason = scene.Reason, mask = scene.Mask;
+            in.TriangleBudget = std::numeric_limits<int64_t>::max();
+            const plod::SelectionStats exact = scene.Select(in);
+            ASSERT_FALSE(exact.BudgetBinding) << what;
+            ASSERT_TRUE(scene.State == state && scene.Reason == reason && scene.Mask == mask)
+              << what << ": the table's cut is not the exact one";
+            EXPECT_EQ(fast.Visited, exact.Visited) << what;
+            EXPECT_EQ(fast.BudgetTriangles, exact.BudgetTriangles) << what;
+            if (std::abs(rate) <= 512 && gaze != 3)
+            {
+              tableVisited += fast.Visited;
+              tableFactors += fast.FoveationFactors;
+              ++cases;
+            }
+            else
+            {
+              // no table: every cell that reaches a tolerance computes its factor
+              EXPECT_EQ(fast.FoveationFactors, exact.FoveationFactors) << what;
+            }
+          }
+        }
+      }
+    }
+  }
+  std::cout << cases << " cases with the table: " << tableFactors << " factors computed for "
+            << tableVisited << " cells visited\n";
+  EXPECT_GT(tableFactors, 0) << "the exact fallback was never reached";
+  EXPECT_LT(tableFactors * 20, tableVisited) << "the table spared fewer than 95 % of the factors";
+}
 
 TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut)
 {

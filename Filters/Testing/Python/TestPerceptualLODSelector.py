@@ -95,6 +95,30 @@ class TestSelector(unittest.TestCase):
         self.assertLessEqual(self.selector.GetNumberOfBudgetTriangles(), budget)
         self.assertLessEqual(self.patches.GetNumberOfTriangles(), budget)
 
+    def test_foveation_factors(self):
+        # screen foveation bounds its factor from a table: few cells compute it, and none
+        # without foveation; the budget walk computes it at every cell that reaches a
+        # tolerance, and gives the same cut
+        self.selector.AddLight(False, 0.3, 0.4, 1.0, 0.9, 0.4)
+        self.look(3)
+        self.selector.SetGazeDirection(0.1, 0, -1)
+        self.patches.Update()
+        self.assertEqual(self.selector.GetNumberOfFoveationFactors(), 0)
+        self.selector.SetFoveationModeToScreen()
+        self.selector.SetFoveationRate(3)
+        self.patches.Update()
+        visited = self.selector.GetNumberOfVisitedNodes()
+        fast = self.selector.GetNumberOfFoveationFactors()
+        self.assertLess(fast * 20, visited)
+        cut = self.selector.GetOutput()
+        state = vtk_to_numpy(cut.GetNodeData().GetArray('CutState')).copy()
+        self.selector.SetTriangleBudget(10 ** 9)  # a budget that does not bind: exact factors
+        self.patches.Update()
+        self.assertFalse(self.selector.GetBudgetWasBinding())
+        self.assertGreater(self.selector.GetNumberOfFoveationFactors(), visited // 4)
+        exact = vtk_to_numpy(self.selector.GetOutput().GetNodeData().GetArray('CutState'))
+        self.assertTrue(np.array_equal(state, exact))
+
 
 if __name__ == '__main__':
     unittest.main()
