@@ -31,29 +31,6 @@ inline bool Finite(const double* x, int n)
   return true;
 }
 
-/// max(0, x)^power, with 0^0 = 1 so that power 0 makes every cosine term constant. Integer
-/// powers up to 2^16 (the usual specular powers) by repeated squaring, exact and fast.
-inline double PositivePower(double x, double power)
-{
-  x = std::min(1.0, std::max(0.0, x));
-  if (power == 1.0)
-  {
-    return x;
-  }
-  if (power >= 0 && power <= 65536 && power == std::floor(power))
-  {
-    double result = 1.0, base = x;
-    for (unsigned e = static_cast<unsigned>(power); e; e >>= 1)
-    {
-      if (e & 1u)
-        result *= base;
-      base *= base;
-    }
-    return result;
-  }
-  return std::pow(x, power);
-}
-
 /// The integer exponent PositivePower raises to by repeated squaring, or -1 when `power` is
 /// not one (std::pow then).
 inline int IntegerPower(double power)
@@ -61,10 +38,10 @@ inline int IntegerPower(double power)
   return power >= 0 && power <= 65536 && power == std::floor(power) ? int(power) : -1;
 }
 
-/// PositivePower of two numbers at once, for an integer exponent `e` (IntegerPower): the same
-/// products in the same order as PositivePower, so the same results to the bit, with the two
-/// chains interleaved and the exponent's checks made once a frame (measured: the specular
-/// powers were the SRCC walk's most expensive line).
+/// max(0, x1)^e and max(0, x2)^e (at most 1) for an integer exponent `e` (IntegerPower), by
+/// repeated squaring, exact and fast, with 0^0 = 1. Two numbers at once: the walks raise both
+/// ends of a cone range, and the two chains interleave (measured: the specular powers were the
+/// SRCC walk's most expensive line before).
 inline void PositivePowers(double x1, double x2, int e, double& r1, double& r2)
 {
   double b1 = std::min(1.0, std::max(0.0, x1)), b2 = std::min(1.0, std::max(0.0, x2));
@@ -82,6 +59,25 @@ inline void PositivePowers(double x1, double x2, int e, double& r1, double& r2)
   }
 }
 
+/// max(0, x)^power, with 0^0 = 1 so that power 0 makes every cosine term constant. Integer
+/// powers up to 2^16 (the usual specular powers) by repeated squaring (PositivePowers).
+inline double PositivePower(double x, double power)
+{
+  x = std::min(1.0, std::max(0.0, x));
+  if (power == 1.0)
+  {
+    return x;
+  }
+  const int e = IntegerPower(power);
+  if (e >= 0)
+  {
+    double result, same;
+    PositivePowers(x, x, e, result, same);
+    return result;
+  }
+  return std::pow(x, power);
+}
+
 /// ConeCosineRange's body, which the walks inline (an exported function of a shared library is
 /// not inlined: it could be interposed; measured, the call took 10 % of the SRCC walk).
 /// `integerPower`: IntegerPower(power), known to the caller.
@@ -91,7 +87,7 @@ inline void ConeRange(double cosA, double sinA, double cosT, double sinT, double
   // highest: the smallest angle max(0, a - theta); lowest: the largest angle min(pi, a + theta)
   const double cLo = cosA >= cosT ? 1.0 : cosA * cosT + sinA * sinT;
   const double cHi = cosA <= -cosT ? -1.0 : cosA * cosT - sinA * sinT;
-  if (integerPower >= 0 && power != 1.0)
+  if (integerPower >= 0)
   {
     PositivePowers(cLo, cHi, integerPower, high, low);
     return;
@@ -420,11 +416,10 @@ Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const float* sinT
   if (fovea && in.Foveation == FoveationMode::Screen && !cheng && std::isfinite(velocity) &&
     std::abs(in.FoveationRate) <= FoveaMaxRate && gaze > 0 && std::isfinite(gaze))
   {
-    if (!fovea->Built || fovea->Rate != in.FoveationRate)
+    if (fovea->Values.empty() || fovea->Rate != in.FoveationRate)
     {
       FillFoveaTable(in.FoveationRate, fovea->Values);
       fovea->Rate = in.FoveationRate;
-      fovea->Built = true;
     }
     f.Fovea = fovea->Values.data();
     for (int a = 0; a < 3; ++a)
@@ -572,9 +567,11 @@ template <bool WithPriority>
   {
     foveate();
     // Cheng §2 alone: curvature against the foveated threshold exp(-K D)
-    if (ChengTest(cosT, sinT, in.FoveationRate, D))
-      return Draw(AcceptedError);
-    return Refine(false, WithPriority ? ChengExcess(cosT, sinT, in.FoveationRate, D) : 0.0);
+    Decision d = ChengTest(cosT, sinT, in.FoveationRate, D)
+      ? Draw(AcceptedError)
+      : Refine(false, WithPriority ? ChengExcess(cosT, sinT, in.FoveationRate, D) : 0.0);
+    d.Factor = in.Foveation != FoveationMode::Off;
+    return d;
   }
   // the decisions that read the tolerances, for a factor known to lie in [lo, hi] (Interval) or
   // known exactly (lo = hi = factor)

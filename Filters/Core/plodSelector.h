@@ -372,9 +372,8 @@ struct PreparedLight
 /// frame to frame and rebuilt when the rate changes.
 struct FoveaTable
 {
-  std::vector<double> Values;
+  std::vector<double> Values; ///< empty until built
   double Rate = 0;
-  bool Built = false;
 };
 } // namespace detail
 

@@ -688,6 +688,13 @@ struct ForkScene
     return double(this->T.Shape[0]) * (1000 / l) / this->In.ContourTolerance;
   }
   static double KA() { return 1000 / std::sqrt(0.25 + 100); }
+  /// The triangles the root, A and B own.
+  void Own(int64_t root, int64_t a, int64_t b)
+  {
+    this->T.Owned[0] = root;
+    this->T.Owned[1] = a;
+    this->T.Owned[2] = b;
+  }
   /// Gives A a contour error of `ratio` times its contour tolerance.
   void SetA(double ratio) { this->T.Shape[1] = float(ratio * this->In.ContourTolerance / KA()); }
   plodtest::Fork::Result Select(int64_t budget)
@@ -892,8 +899,7 @@ TEST(SelectorExact, BudgetStopsAtTheFirstRefinementThatDoesNotFit)
   // (5, which would fit) is not refined either: a larger budget must refine a superset
   ForkScene s;
   s.In.BudgetStop = plod::BudgetStopRule::StopAtFirstMisfit;
-  s.T.Owned[1] = 20;
-  s.T.Owned[2] = 5;
+  s.Own(0, 20, 5);
   s.SetA(1.5 * s.B());
   auto r = s.Select(10);
   EXPECT_EQ(r.State[0], plod::NotInCut); // the root (no triangle of its own) is refined
@@ -922,8 +928,7 @@ TEST(SelectorExact, BudgetSkipsARefinementThatDoesNotFitAndMakesCheaperOnes)
   // misfit, whose key (1.5 rB) is the largest left in the cut.
   ForkScene s;
   ASSERT_EQ(s.In.BudgetStop, plod::BudgetStopRule::SkipMisfits);
-  s.T.Owned[1] = 20;
-  s.T.Owned[2] = 5;
+  s.Own(0, 20, 5);
   s.SetA(1.5 * s.B());
   auto r = s.Select(10);
   EXPECT_EQ(r.State[0], plod::NotInCut);
@@ -986,9 +991,7 @@ TEST(SelectorExact, BudgetRulesAgreeUpToTheFirstMisfitAtEveryBudget)
   // leaves B out though it fits (below 23 triangles: root + B only); both report the same first
   // misfit, whose priority never rises with the budget (the pops before it are the same).
   ForkScene s;
-  s.T.Owned[0] = 3;
-  s.T.Owned[1] = 20;
-  s.T.Owned[2] = 5;
+  s.Own(3, 20, 5);
   s.SetA(1.5 * s.B());
   double previous = std::numeric_limits<double>::infinity();
   for (int64_t budget = 1; budget <= 40; ++budget)
@@ -1016,9 +1019,7 @@ TEST(SelectorExact, BudgetRulesAgreeUpToTheFirstMisfitAtEveryBudget)
 TEST(SelectorExact, BudgetCountsTheTrianglesOfRefinedNodesAndOpenedLeaves)
 {
   ForkScene s;
-  s.T.Owned[0] = 3;
-  s.T.Owned[1] = 4;
-  s.T.Owned[2] = 5;
+  s.Own(3, 4, 5);
   s.SetA(1.5 * s.B());
   // without a budget the walk counts too: the root refined (3), both leaves opened (4 + 5)
   auto r = s.Select(0);
