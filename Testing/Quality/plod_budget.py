@@ -28,6 +28,9 @@ budget refines that the next, larger one does not, `changed` the cut entries tha
 Writes <out>/budget.csv and <out>/budget_nesting.csv and prints a table of medians.
 --sections incremental: the incremental selection against the full walk on an orbit (11 frames,
 3 degrees apart), per frame, in <out>/incremental.csv.
+--sections foveation: screen foveation's factor table against every factor computed (a budget
+that does not bind), rates 2 and 8, azimuths 0 and 90: same cut and same image, factors
+computed, PSNR, in <out>/foveation_table.csv (exits 1 when a cut differs).
 """
 import argparse
 import csv
@@ -154,6 +157,43 @@ def incremental(name, model, steps=11, step_degrees=3.0):
     return rows
 
 
+def foveation(name, model, rates=(2.0, 8.0), azimuths=(0, 90)):
+    """Rows of screen foveation's table on a real model: the camera reset to the model's bounds,
+    mid distance, the gaze a little off the view axis; the tolerance walk (factor bounded by
+    the table, computed only where a test falls within the bounds) against a budget that does
+    not bind (every factor computed): the cuts must be equal node for node, and so their
+    images; PSNR against the smooth-shaded full-resolution image of the view."""
+    rows = []
+    scene = pf.Scene(model)
+    s = scene.selector
+    s.SetFoveationModeToScreen()
+    for az in azimuths:
+        scene.view(az, pf.DISTANCES['mid'])
+        camera = scene.renderer.GetActiveCamera()
+        gaze = np.array(camera.GetDirectionOfProjection()) + 0.15 * np.array(camera.GetViewUp())
+        s.SetGazeDirection(*(gaze / np.linalg.norm(gaze)))
+        ref = scene.render_actor(scene.ref_actor)
+        for rate in rates:
+            s.SetFoveationRate(rate)
+            cuts, images = [], []
+            for exact in (False, True):
+                s.SetTriangleBudget(10 ** 9 if exact else 0)
+                img, tris = scene.render_lod(1.0)
+                state = vtk_to_numpy(s.GetOutput().GetNodeData().GetArray('CutState')).copy()
+                cuts.append(state)
+                images.append(img)
+                assert not s.GetBudgetWasBinding()
+                rows.append(dict(model=name, azimuth=az, rate=rate,
+                                 walk='budget (exact)' if exact else 'tolerance (table)',
+                                 triangles=tris, visited=s.GetNumberOfVisitedNodes(),
+                                 factors=s.GetNumberOfFoveationFactors(),
+                                 psnr=metrics.psnr(pf.lum(ref), pf.lum(img))))
+            rows[-1]['same_cut'] = rows[-2]['same_cut'] = bool(np.array_equal(*cuts))
+            rows[-1]['same_image'] = rows[-2]['same_image'] = bool(np.array_equal(*images))
+    s.SetTriangleBudget(0)
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument('--out', default='docs/results')
@@ -161,7 +201,8 @@ def main():
     ap.add_argument('--models', default='bunny,lucy,generated')
     ap.add_argument('--sections', default='budget,incremental',
                     help='budget (the trade curves and nesting), incremental (against the full '
-                         'walk on an orbit); the others keep their CSV files')
+                         'walk on an orbit), foveation (screen foveation\'s table against the '
+                         'exact factors); the others keep their CSV files')
     args = ap.parse_args()
     sections = set(args.sections.split(','))
     wanted = set(args.models.split(','))
@@ -194,6 +235,23 @@ def main():
                     key, method, min(x['psnr'] for x in r), max(x['psnr'] for x in r),
                     sum(x['psnr'] for x in r) / len(r), min(x['triangles'] for x in r),
                     max(x['triangles'] for x in r)))
+        print('written:', path)
+    if 'foveation' in sections:
+        fov = []
+        for key, model in models:
+            fov += foveation(key, model)
+        path = os.path.join(args.out, 'foveation_table.csv')
+        with open(path, 'w', newline='') as f:
+            writer = csv.DictWriter(f, ['model', 'azimuth', 'rate', 'walk', 'triangles',
+                                        'visited', 'factors', 'psnr', 'same_cut', 'same_image'])
+            writer.writeheader()
+            writer.writerows(fov)
+        for r in fov:
+            print('%(model)-10s az %(azimuth)3d K %(rate)4.1f %(walk)-18s %(triangles)7d tri '
+                  '%(visited)7d visited %(factors)7d factors %(psnr)6.2f dB same cut '
+                  '%(same_cut)s, same image %(same_image)s' % r)
+        if not all(r['same_cut'] and r['same_image'] for r in fov):
+            sys.exit('the table\'s cut differs from the exact one')
         print('written:', path)
     if 'budget' not in sections:
         return rows
