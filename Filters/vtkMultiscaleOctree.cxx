@@ -91,6 +91,8 @@ void vtkMultiscaleOctree::ShallowCopy(vtkDataObject* src)
     this->CheckedValid = o->CheckedValid;
     this->CheckedResult = o->CheckedResult;
     this->CheckedWhy = o->CheckedWhy;
+    this->CheckedView = o->CheckedView;
+    this->CheckedStamp = o->CheckedStamp;
   }
   this->Superclass::ShallowCopy(src);
   this->Modified();
@@ -385,25 +387,14 @@ bool vtkMultiscaleOctree::GetView(plod::OctreeView& view)
 //------------------------------------------------------------------------------
 bool vtkMultiscaleOctree::CheckKey::operator==(const CheckKey& o) const
 {
-  return this->Level == o.Level && this->Triangles == o.Triangles && this->Nodes == o.Nodes &&
-    this->Points == o.Points && this->TriangleCount == o.TriangleCount &&
-    this->Clusters == o.Clusters && this->Time == o.Time && this->Finest == o.Finest &&
-    this->Origin[0] == o.Origin[0] && this->Origin[1] == o.Origin[1] &&
-    this->Origin[2] == o.Origin[2] && this->Edge == o.Edge;
+  return this->Arrays == o.Arrays && this->Finest == o.Finest && this->Origin[0] == o.Origin[0] &&
+    this->Origin[1] == o.Origin[1] && this->Origin[2] == o.Origin[2] && this->Edge == o.Edge;
 }
 
 //------------------------------------------------------------------------------
-vtkMultiscaleOctree::CheckKey vtkMultiscaleOctree::MakeCheckKey()
+void vtkMultiscaleOctree::MakeCheckKey(CheckKey& k)
 {
-  CheckKey k;
-  vtkAbstractArray* level = this->NodeData->GetAbstractArray(LevelArrayName());
-  vtkAbstractArray* tris = this->SurfaceData->GetAbstractArray(TrianglesArrayName());
-  k.Level = level ? level->GetVoidPointer(0) : nullptr;
-  k.Triangles = tris ? tris->GetVoidPointer(0) : nullptr;
-  k.Nodes = this->GetNumberOfNodes();
-  k.Points = this->GetNumberOfSurfacePoints();
-  k.Clusters = this->GetNumberOfClusters();
-  k.TriangleCount = this->GetNumberOfSurfaceTriangles();
+  k.Arrays.clear();
   k.Finest = this->FinestLevel;
   std::copy(this->Origin, this->Origin + 3, k.Origin);
   k.Edge = this->RootEdge;
@@ -414,23 +405,23 @@ vtkMultiscaleOctree::CheckKey vtkMultiscaleOctree::MakeCheckKey()
       vtkAbstractArray* a = fd->GetAbstractArray(i);
       const char* name = a ? a->GetName() : nullptr;
       if (!a ||
-        (fd == this->NodeData && name &&
+        (fd == this->NodeData && name && name[0] == 'C' &&
           (!strcmp(name, CutStateArrayName()) || !strcmp(name, CullMaskArrayName()) ||
             !strcmp(name, "CutReason"))))
       {
         continue; // the cut changes every frame; it is checked by the filters that read it
       }
-      k.Time = std::max(k.Time, a->GetMTime());
+      const vtkIdType values = a->GetNumberOfValues();
+      k.Arrays.push_back({ a, values > 0 ? a->GetVoidPointer(0) : nullptr, values, a->GetMTime() });
     }
   }
-  return k;
 }
 
 //------------------------------------------------------------------------------
 bool vtkMultiscaleOctree::CheckConsistency(std::string* why)
 {
-  const CheckKey key = this->MakeCheckKey();
-  if (!this->CheckedValid || !(key == this->CheckedKey))
+  this->MakeCheckKey(this->ScratchKey);
+  if (!this->CheckedValid || !(this->ScratchKey == this->CheckedKey))
   {
     std::string text;
     plod::OctreeView v;
@@ -448,16 +439,39 @@ bool vtkMultiscaleOctree::CheckConsistency(std::string* why)
     {
       ok = plod::ValidateOctree(v, &text);
     }
-    this->CheckedKey = key;
+    std::swap(this->CheckedKey, this->ScratchKey);
     this->CheckedValid = true;
     this->CheckedResult = ok;
     this->CheckedWhy = text;
+    this->CheckedView =
+      ok && v.NumberOfNodes > 0 ? std::make_shared<const plod::OctreeView>(v) : nullptr;
+    vtkTimeStamp stamp; // a new value of VTK's global clock
+    stamp.Modified();
+    this->CheckedStamp = stamp.GetMTime();
   }
   if (why)
   {
     *why = this->CheckedWhy;
   }
   return this->CheckedResult;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultiscaleOctree::GetCheckedView(
+  plod::OctreeView& view, vtkMTimeType* time, std::string* why)
+{
+  const bool ok = this->CheckConsistency(why);
+  if (time)
+  {
+    *time = this->CheckedStamp;
+  }
+  if (!ok || !this->CheckedView)
+  {
+    view = plod::OctreeView();
+    return false;
+  }
+  view = *this->CheckedView;
+  return true;
 }
 
 //------------------------------------------------------------------------------

@@ -89,7 +89,9 @@
 #include "PerceptualLODFiltersModule.h" // for export macro
 #include "vtkDataObject.h"
 
+#include <memory> // for the checked view
 #include <string> // for CheckConsistency
+#include <vector> // for the check's key
 
 #ifndef __VTK_WRAP__
 namespace plod
@@ -309,6 +311,15 @@ public:
   bool GetArrays(plod::OctreeArrays& arrays);
   /// IsConsistent(), telling what is wrong in `why`.
   bool CheckConsistency(std::string* why);
+  /**
+   * CheckConsistency() and GetView() in one, for the filters that run every frame: the view is
+   * made when the check is, and kept while the arrays it covers are the same objects, with the
+   * same storage, sizes and modification times (a few pointer comparisons a call instead of a
+   * look-up of every array by name). Returns false, with an empty view, when the octree is
+   * empty or inconsistent. `time`, when given, receives a stamp that changes whenever the view
+   * is made again: caches derived from the arrays can follow it.
+   */
+  bool GetCheckedView(plod::OctreeView& view, vtkMTimeType* time, std::string* why);
 #endif
 
 protected:
@@ -328,20 +339,34 @@ protected:
   // the cut arrays, which change every frame), copied by ShallowCopy with the arrays it covers
   struct CheckKey
   {
-    const void* Level = nullptr;
-    const void* Triangles = nullptr;
-    vtkIdType Nodes = -1, Points = -1, TriangleCount = -1, Clusters = -1;
-    vtkMTimeType Time = 0;
+    /// one array: the object, its storage, its number of values and its modification time
+    struct Array
+    {
+      const void* Object;
+      const void* Storage;
+      vtkIdType Values;
+      vtkMTimeType Time;
+      bool operator==(const Array& o) const
+      {
+        return this->Object == o.Object && this->Storage == o.Storage && this->Values == o.Values &&
+          this->Time == o.Time;
+      }
+    };
+    std::vector<Array> Arrays;
     int Finest = -1;
     double Origin[3] = { 0, 0, 0 };
     double Edge = 0;
     bool operator==(const CheckKey& o) const;
   };
-  CheckKey MakeCheckKey();
-  CheckKey CheckedKey;
+  /// The key of the arrays as they are now, in `key` (its storage is reused).
+  void MakeCheckKey(CheckKey& key);
+  CheckKey CheckedKey, ScratchKey;
   bool CheckedValid = false;
   bool CheckedResult = false;
   std::string CheckedWhy;
+  // the view made with the check (when consistent), and the stamp GetCheckedView reports
+  std::shared_ptr<const plod::OctreeView> CheckedView;
+  vtkMTimeType CheckedStamp = 0;
 
 private:
   vtkMultiscaleOctree(const vtkMultiscaleOctree&) = delete;

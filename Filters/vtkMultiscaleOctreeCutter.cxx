@@ -49,7 +49,7 @@ int vtkMultiscaleOctreeCutter::RequestData(
   }
   plod::OctreeView v;
   std::string why;
-  if (!input->CheckConsistency(&why) || !input->GetView(v))
+  if (!input->GetCheckedView(v, nullptr, &why))
   {
     vtkErrorMacro("The input octree is invalid (" << why << "): empty output.");
     return 1;

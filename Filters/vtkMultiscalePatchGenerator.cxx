@@ -81,7 +81,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   timer->StartTimer();
   std::string why;
   plod::OctreeView v;
-  if (!input->CheckConsistency(&why) || !input->GetView(v))
+  if (!input->GetCheckedView(v, nullptr, &why))
   {
     vtkErrorMacro("The input octree is invalid (" << why << "): empty output.");
     return 1;

@@ -12,10 +12,10 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkSmartPointer.h"
-#include "vtkTimerLog.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -83,13 +83,30 @@ struct vtkPerceptualLODSelector::Internals
   vtkSmartPointer<vtkUnsignedCharArray> State;
   vtkSmartPointer<vtkUnsignedCharArray> Reason;
   vtkSmartPointer<vtkUnsignedCharArray> CullMask;
-  // the last good output (shallow copy): the pipeline clears the output before each execution,
-  // so an invalid input restores this one instead of losing the previous cut
+  vtkSmartPointer<vtkDoubleArray> CutView;
+  // The output between frames: the input's arrays, the three cut arrays and the cut's view. It
+  // is made when the input changes; each frame writes the cut arrays and the view in place and
+  // the output shallow-copies it (the pipeline clears the output before each execution). Made
+  // anew every frame, the output cost more than a small cut's walk (measured: docs/benchmarks.md)
+  vtkSmartPointer<vtkMultiscaleOctree> Prepared;
+  // the last good output, which an invalid input restores instead of losing the previous cut:
+  // Prepared after a cut, empty after an empty or invalid octree
   vtkSmartPointer<vtkMultiscaleOctree> LastOutput = vtkSmartPointer<vtkMultiscaleOctree>::New();
-  // identity of the octree the kernel caches were made for
-  const void* LevelArray = nullptr;
-  vtkIdType Nodes = -1;
+  // what the caches were made for: the octree's checked view (its stamp: the kernel and the cut
+  // arrays follow the arrays), and the input object and its modification time (Prepared)
+  vtkMTimeType ViewStamp = 0;
+  vtkMultiscaleOctree* Input = nullptr;
   vtkMTimeType InputTime = 0;
+
+  /// Forgets the caches (after an empty or invalid octree).
+  void Reset()
+  {
+    this->LastOutput = vtkSmartPointer<vtkMultiscaleOctree>::New();
+    this->Prepared = nullptr;
+    this->State = nullptr;
+    this->ViewStamp = 0;
+    this->Input = nullptr;
+  }
 };
 
 //------------------------------------------------------------------------------
@@ -246,7 +263,7 @@ int vtkPerceptualLODSelector::RequestData(
   if (!input || input->GetNumberOfNodes() == 0)
   {
     output->Initialize();
-    this->Internal->LastOutput->Initialize();
+    this->Internal->Reset();
     this->NumberOfVisitedNodes = this->NumberOfCutNodes = this->NumberOfDrawnNodes = 0;
     this->NumberOfOpenedLeaves = 0;
     this->NumberOfFoveationFactors = 0;
@@ -257,19 +274,19 @@ int vtkPerceptualLODSelector::RequestData(
     return 1;
   }
   plod::OctreeView view;
+  vtkMTimeType viewStamp = 0;
   {
     std::string why;
-    if (!input->CheckConsistency(&why) || !input->GetView(view))
+    if (!input->GetCheckedView(view, &viewStamp, &why))
     {
       vtkErrorMacro("The input octree is invalid (" << why << "): empty output.");
       output->Initialize();
-      this->Internal->LastOutput->Initialize();
+      this->Internal->Reset();
       this->EmptyCutReason = "the input octree is invalid";
       return 1;
     }
   }
-  vtkNew<vtkTimerLog> timer;
-  timer->StartTimer();
+  const auto start = std::chrono::steady_clock::now();
 
   // ---- parameters: check them before touching anything ---------------------------------------
   const char* problem = nullptr;
@@ -469,25 +486,21 @@ int vtkPerceptualLODSelector::RequestData(
   // ---- caches follow the octree
   // ------------------------------------------------------------------
   Internals& I = *this->Internal;
-  if (I.LevelArray != view.Level || I.Nodes != view.NumberOfNodes ||
-    I.InputTime != input->GetMTime() || !I.State)
+  if (I.ViewStamp != viewStamp || !I.State)
   {
     I.Kernel.SetOctree(view);
-    I.State = vtkSmartPointer<vtkUnsignedCharArray>::New();
-    I.State->SetName(vtkMultiscaleOctree::CutStateArrayName());
-    I.State->SetNumberOfTuples(view.NumberOfNodes);
-    I.State->FillValue(0);
-    I.Reason = vtkSmartPointer<vtkUnsignedCharArray>::New();
-    I.Reason->SetName(CutReasonArrayName());
-    I.Reason->SetNumberOfTuples(view.NumberOfNodes);
-    I.Reason->FillValue(0);
-    I.CullMask = vtkSmartPointer<vtkUnsignedCharArray>::New();
-    I.CullMask->SetName(vtkMultiscaleOctree::CullMaskArrayName());
-    I.CullMask->SetNumberOfTuples(view.NumberOfNodes);
-    I.CullMask->FillValue(0);
-    I.LevelArray = view.Level;
-    I.Nodes = view.NumberOfNodes;
-    I.InputTime = input->GetMTime();
+    auto cutArray = [&](const char* name) {
+      auto a = vtkSmartPointer<vtkUnsignedCharArray>::New();
+      a->SetName(name);
+      a->SetNumberOfTuples(view.NumberOfNodes);
+      a->FillValue(0);
+      return a;
+    };
+    I.State = cutArray(vtkMultiscaleOctree::CutStateArrayName());
+    I.Reason = cutArray(CutReasonArrayName());
+    I.CullMask = cutArray(vtkMultiscaleOctree::CullMaskArrayName());
+    I.ViewStamp = viewStamp;
+    I.Prepared = nullptr;
   }
   plod::SelectionStats stats;
   I.Kernel.Select(
@@ -496,34 +509,43 @@ int vtkPerceptualLODSelector::RequestData(
   I.Reason->Modified();
   I.CullMask->Modified();
 
-  output->ShallowCopy(input);
-  output->GetNodeData()->RemoveArray(vtkMultiscaleOctree::CutStateArrayName());
-  output->GetNodeData()->RemoveArray(CutReasonArrayName());
-  output->GetNodeData()->RemoveArray(vtkMultiscaleOctree::CullMaskArrayName());
-  output->GetNodeData()->AddArray(I.State);
-  output->GetNodeData()->AddArray(I.Reason);
-  output->GetNodeData()->AddArray(I.CullMask);
-  // the view the cut was made for, in octree-local coordinates, for the patch generator's
-  // per-triangle back-face culling (only when back faces are hidden)
+  if (!I.Prepared || I.Input != input || I.InputTime != input->GetMTime())
   {
-    vtkNew<vtkDoubleArray> view;
-    view->SetName(vtkMultiscaleOctree::CutViewArrayName());
-    view->SetNumberOfValues(8);
-    for (int a = 0; a < 3; ++a)
+    I.Prepared = vtkSmartPointer<vtkMultiscaleOctree>::New();
+    I.Prepared->ShallowCopy(input);
+    vtkFieldData* nodes = I.Prepared->GetNodeData();
+    for (vtkUnsignedCharArray* a : { I.State.Get(), I.Reason.Get(), I.CullMask.Get() })
     {
-      view->SetValue(a, in.Eye[a]);
-      view->SetValue(4 + a, in.ProjectionDirection[a]);
+      nodes->RemoveArray(a->GetName());
+      nodes->AddArray(a);
     }
-    view->SetValue(3, in.Parallel ? 1.0 : 0.0);
-    view->SetValue(7, in.HideBackFaces ? 1.0 : 0.0);
-    if (!output->GetFieldData())
+    // the view the cut was made for, in octree-local coordinates, for the patch generator's
+    // per-triangle back-face culling (only when back faces are hidden)
+    I.CutView = vtkSmartPointer<vtkDoubleArray>::New();
+    I.CutView->SetName(vtkMultiscaleOctree::CutViewArrayName());
+    I.CutView->SetNumberOfValues(8);
+    if (!I.Prepared->GetFieldData())
     {
       vtkNew<vtkFieldData> fd;
-      output->SetFieldData(fd);
+      I.Prepared->SetFieldData(fd);
     }
-    output->GetFieldData()->RemoveArray(vtkMultiscaleOctree::CutViewArrayName());
-    output->GetFieldData()->AddArray(view);
+    I.Prepared->GetFieldData()->RemoveArray(vtkMultiscaleOctree::CutViewArrayName());
+    I.Prepared->GetFieldData()->AddArray(I.CutView);
+    I.Input = input;
+    I.InputTime = input->GetMTime();
   }
+  {
+    double* cutView = I.CutView->GetPointer(0);
+    for (int a = 0; a < 3; ++a)
+    {
+      cutView[a] = in.Eye[a];
+      cutView[4 + a] = in.ProjectionDirection[a];
+    }
+    cutView[3] = in.Parallel ? 1.0 : 0.0;
+    cutView[7] = in.HideBackFaces ? 1.0 : 0.0;
+    I.CutView->Modified();
+  }
+  output->ShallowCopy(I.Prepared);
   // a cut that draws nothing says why (the root alone is one point: no triangle)
   const uint8_t rootState = I.State->GetValue(0);
   if (stats.Drawn == 0)
@@ -549,9 +571,9 @@ int vtkPerceptualLODSelector::RequestData(
   {
     vtkDebugMacro("The cut draws nothing: " << this->EmptyCutReason << ".");
   }
-  I.LastOutput->ShallowCopy(output);
-  timer->StopTimer();
-  this->SelectTime = timer->GetElapsedTime();
+  I.LastOutput = I.Prepared;
+  this->SelectTime =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   this->NumberOfVisitedNodes = stats.Visited;
   this->NumberOfCutNodes = stats.InCut;
   this->NumberOfDrawnNodes = stats.Drawn;

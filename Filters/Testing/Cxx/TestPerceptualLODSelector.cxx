@@ -13,6 +13,8 @@
 #include "vtkCamera.h"
 #include "vtkCommand.h"
 #include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIntArray.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkMultiscaleOctree.h"
@@ -925,6 +927,55 @@ TEST(PerceptualLODSelector, ReExecutesOnlyOnChangeAndNeverRebuilds)
   EXPECT_EQ(selections, 10);
   EXPECT_GT(p.Selector->GetNumberOfVisitedNodes(), 0);
   EXPECT_GE(p.Selector->GetSelectTime(), 0.0);
+}
+
+TEST(PerceptualLODSelector, FollowsArraysReplacedBetweenFrames)
+{
+  // The selector keeps its output and its caches from frame to frame (GetCheckedView, the
+  // prepared output): an array replaced in the input, or another input object with the same
+  // arrays, must still reach the next cut and the output.
+  Pipeline p(plodtest::MakeBlob(7, 40, 0.3), 5);
+  p.Builder->Update();
+  vtkNew<vtkMultiscaleOctree> octree;
+  octree->ShallowCopy(p.Builder->GetOutput());
+  p.Selector->SetInputData(octree);
+  // made before the first frame: older than every array the selector sees
+  vtkNew<vtkFloatArray> flat;
+  flat->DeepCopy(octree->GetNodeData()->GetArray(vtkMultiscaleOctree::ConeAngleArrayName()));
+  for (vtkIdType n = 0; n < flat->GetNumberOfTuples(); ++n)
+    flat->SetValue(n, 0.0f); // every cell flat: no contour but at the rim of the view
+  const double focus[3] = { 0, 0, 0 }, eye[3] = { 0.4, 0.3, 3 };
+  p.Look(eye, focus);
+  const auto before = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+
+  octree->GetNodeData()->AddArray(flat); // replaces the array of that name
+  const double eye2[3] = { 0.41, 0.3, 3 };
+  p.Look(eye2, focus);
+  const auto after = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+  Pipeline q(p.Model, 5); // a selector that has seen only the replaced array
+  q.Selector->SetInputData(octree);
+  q.Look(eye2, focus);
+  EXPECT_EQ(after, q.Array(vtkMultiscaleOctree::CutStateArrayName()))
+    << "the cut follows the replaced cone angles";
+  EXPECT_NE(after, before) << "flat cones change the cut (else this test shows nothing)";
+  EXPECT_EQ(p.Cut()->GetNodeData()->GetArray(vtkMultiscaleOctree::ConeAngleArrayName()), flat.Get())
+    << "the output carries the replaced array";
+
+  // another input object, the same arrays, its own field data: the output follows it
+  vtkNew<vtkMultiscaleOctree> other;
+  other->ShallowCopy(octree);
+  vtkNew<vtkIntArray> tag;
+  tag->SetName("Tag");
+  tag->InsertNextValue(7);
+  vtkNew<vtkFieldData> fd;
+  fd->AddArray(tag);
+  other->SetFieldData(fd);
+  p.Selector->SetInputData(other);
+  vtkMultiscaleOctree* out = p.Cut();
+  ASSERT_NE(out->GetFieldData(), nullptr);
+  EXPECT_NE(out->GetFieldData()->GetArray("Tag"), nullptr);
+  EXPECT_NE(out->GetFieldData()->GetArray(vtkMultiscaleOctree::CutViewArrayName()), nullptr);
+  EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), after) << "same arrays, same view";
 }
 
 TEST(PerceptualLODSelector, MinimumLevelRefinesEveryCoarserCellButCulledOnes)
