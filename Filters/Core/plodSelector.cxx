@@ -364,13 +364,13 @@ void FillFoveaTable(double rate, std::vector<double>& table)
   }
 }
 
-/// The range [range[0], range[1]] of the foveation factor exp(K D) of a cell whose unit vector
-/// to the eye is `ve` (the factor foveate() computes lies within it).
-inline void FoveaRange(const Frame& f, const double ve[3], double range[2])
+/// The range [range[0], range[1]] of the foveation factor exp(K D) of a cell whose view ray
+/// makes the angle theta with the gaze, cos theta = `u` (the factor foveate() computes lies
+/// within it).
+inline void FoveaRange(const Frame& f, double u, double range[2])
 {
-  // cos theta between the view ray (-ve) and the gaze
-  const double u = -Dot(ve, f.Gaze);
-  const double w = std::sqrt(std::min(1.0, std::max(0.0, 0.5 * (1.0 - u))));
+  // w = sqrt((1 - u) / 2); w above 1 by rounding: the last interval
+  const double w = std::sqrt(std::max(0.0, 0.5 * (1.0 - u)));
   const int j = std::min(FoveaSize - 1, static_cast<int>(w * FoveaSize));
   range[0] = f.Fovea[2 * j];
   range[1] = f.Fovea[2 * j + 1];
@@ -515,11 +515,13 @@ template <bool WithPriority>
   const float* nf = &v.ConeAxis[3 * n];
   const double axis[3] = { nf[0], nf[1], nf[2] };
   double ve[3], k;
+  double gazeCos; // screen foveation's table: cos theta between the view ray (-ve) and the gaze
   if (in.Parallel)
   {
     for (int a = 0; a < 3; ++a)
       ve[a] = -f.Dop[a];
     k = in.PixelScale;
+    gazeCos = Dot(f.Dop, f.Gaze);
   }
   else
   {
@@ -534,6 +536,9 @@ template <bool WithPriority>
     for (int a = 0; a < 3; ++a)
       ve[a] = d[a] * inverse;
     k = in.PixelScale * inverse;
+    // from d, not ve: the dot product does not wait for the division (the index only needs to
+    // be within one interval: see FoveaTable)
+    gazeCos = -Dot(d, f.Gaze) * inverse;
   }
 
   const double cosT = f.CosTheta[n], sinT = f.SinTheta[n];
@@ -819,7 +824,7 @@ template <bool WithPriority>
     // screen foveation: the factor's range from the table, without the angle and exponential;
     // exact only when some test falls inside the range (rare: see FoveaTable)
     double range[2];
-    FoveaRange(f, ve, range);
+    FoveaRange(f, gazeCos, range);
     const Decision d =
       tail(std::true_type(), f.Velocity * range[0], f.Velocity * range[1], ambiguous);
     if (!ambiguous)

@@ -1249,8 +1249,9 @@ TEST(PerceptualLODSelector, ScreenFoveationTableGivesTheExactCut)
 {
   // The tolerance walk bounds screen foveation's factor from a table and computes it only where
   // a test falls within the bounds; the budget walk (a budget that does not bind) computes it at
-  // every cell. Over models, views, rates (negative, 0, large, beyond the table's 512), gazes
-  // (at the model, aside, away from it, none) and the modes that multiply tolerances by it,
+  // every cell. Over models, views (perspective and parallel), rates (negative, 0, large, beyond
+  // the table's 512), gazes (at the model, aside, away from it, none) and the modes that
+  // multiply tolerances by it,
   // both give the same cut, node for node. The table spares most factors, yet the exact
   // fallback is reached (the bounds are tight, not vacuous, and the test exercises both paths).
   const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { -1.2, 0.3, 1.9 } };
@@ -1259,7 +1260,7 @@ TEST(PerceptualLODSelector, ScreenFoveationTableGivesTheExactCut)
   ForEachBudgetView(eyes,
     [&](BudgetScene& scene, const std::string& modelName, const std::array<double, 3>& eyeArray,
       double eye[3], const double focus[3]) {
-      for (int gaze = 0; gaze < 4; ++gaze)
+      for (int gaze = 0; gaze < 8; ++gaze) // 4 to 7: the same gazes, parallel projection
       {
         for (const double rate : rates)
         {
@@ -1273,21 +1274,29 @@ TEST(PerceptualLODSelector, ScreenFoveationTableGivesTheExactCut)
               std::to_string(eyeArray[0]) + " gaze " + std::to_string(gaze) + " rate " +
               std::to_string(rate);
             plod::SelectionInput in = scene.Look(eye, focus);
+            if (gaze >= 4)
+            {
+              // every view ray along the projection direction: one angle to the gaze
+              in.Parallel = true;
+              for (int a = 0; a < 3; ++a)
+                in.ProjectionDirection[a] = focus[a] - eye[a];
+              in.PixelScale = 400; // pixels per unit: the model about 800 pixels across
+            }
             mode.second(in);
             in.Foveation = plod::FoveationMode::Screen;
             in.FoveationRate = rate;
             GazeAtTheOrigin(in);
-            if (gaze == 1)
+            if (gaze % 4 == 1)
             {
               in.GazeDirection[0] += 0.3; // aside: the fovea on the model's edge
               vtkMath::Normalize(in.GazeDirection);
             }
-            else if (gaze == 2)
+            else if (gaze % 4 == 2)
             {
               for (int a = 0; a < 3; ++a) // away: D near 1 everywhere
                 in.GazeDirection[a] = -in.GazeDirection[a];
             }
-            else if (gaze == 3)
+            else if (gaze % 4 == 3)
             {
               in.GazeDirection[0] = in.GazeDirection[1] = in.GazeDirection[2] = 0;
             }
@@ -1300,7 +1309,7 @@ TEST(PerceptualLODSelector, ScreenFoveationTableGivesTheExactCut)
               << what << ": the table's cut is not the exact one";
             EXPECT_EQ(fast.Visited, exact.Visited) << what;
             EXPECT_EQ(fast.BudgetTriangles, exact.BudgetTriangles) << what;
-            if (std::abs(rate) <= 512 && gaze != 3)
+            if (std::abs(rate) <= 512 && gaze % 4 != 3)
             {
               tableVisited += fast.Visited;
               tableFactors += fast.FoveationFactors;
