@@ -10,7 +10,10 @@
  * resolution), "CutReason" (plod::CutReason: 1 accepted on the contour, 2 accepted by
  * brightness, 3 leaf opened, 4 culled, 5 back-facing, 6 accepted by a baseline's error test,
  * 7 accepted by its projected size, 8 left unrefined by the triangle budget) and "CullMask"
- * (the frustum planes a culled cell lies outside).
+ * (the frustum planes a culled cell lies outside), and the field array "CutView" (the eye and
+ * projection the cut was made for). The cut arrays and "CutView" are the selector's own and are
+ * rewritten in place every frame (their modification times change): an output kept from an
+ * earlier frame shows the latest cut; DeepCopy it to keep a frame's cut.
  *
  * Method (METHOD §2; SRCC §3.3-3.5 by Wakatsuki et al. 2003; TMM §3-4; Wang & Sato eq. 1-2;
  * Cheng §2), walking from the root:
