@@ -87,21 +87,28 @@ struct vtkPerceptualLODSelector::Internals
   // The output between frames: the input's arrays, the three cut arrays and the cut's view. It
   // is made when the input changes; each frame writes the cut arrays and the view in place and
   // the output shallow-copies it (the pipeline clears the output before each execution). Made
-  // anew every frame, the output cost more than a small cut's walk (measured: docs/benchmarks.md)
+  // anew every frame, the output cost more than a small cut's walk (measured: docs/benchmarks.md).
+  // It is also the last good output, which an invalid input restores instead of losing the
+  // previous cut (RestoreLastCut): null before the first cut and after an empty or invalid octree.
   vtkSmartPointer<vtkMultiscaleOctree> Prepared;
-  // the last good output, which an invalid input restores instead of losing the previous cut:
-  // Prepared after a cut, empty after an empty or invalid octree
-  vtkSmartPointer<vtkMultiscaleOctree> LastOutput = vtkSmartPointer<vtkMultiscaleOctree>::New();
   // what the caches were made for: the octree's checked view (its stamp: the kernel and the cut
   // arrays follow the arrays), and the input object and its modification time (Prepared)
   vtkMTimeType ViewStamp = 0;
   vtkMultiscaleOctree* Input = nullptr;
   vtkMTimeType InputTime = 0;
 
+  /// The output of the last cut, or an empty one (an invalid input keeps the previous cut).
+  void RestoreLastCut(vtkMultiscaleOctree* output)
+  {
+    if (this->Prepared)
+      output->ShallowCopy(this->Prepared);
+    else
+      output->Initialize();
+  }
+
   /// Forgets the caches (after an empty or invalid octree).
   void Reset()
   {
-    this->LastOutput = vtkSmartPointer<vtkMultiscaleOctree>::New();
     this->Prepared = nullptr;
     this->State = nullptr;
     this->ViewStamp = 0;
@@ -314,7 +321,7 @@ int vtkPerceptualLODSelector::RequestData(
   if (problem)
   {
     vtkErrorMacro("Invalid input: " << problem << "; the previous cut is kept.");
-    output->ShallowCopy(this->Internal->LastOutput);
+    this->Internal->RestoreLastCut(output);
     return 1;
   }
 
@@ -357,7 +364,7 @@ int vtkPerceptualLODSelector::RequestData(
     {
       vtkErrorMacro(
         "Invalid input: the object-to-world matrix is singular; the previous cut is kept.");
-      output->ShallowCopy(this->Internal->LastOutput);
+      this->Internal->RestoreLastCut(output);
       return 1;
     }
   }
@@ -479,7 +486,7 @@ int vtkPerceptualLODSelector::RequestData(
   if (!plod::ValidateSelectionInput(in, &why))
   {
     vtkErrorMacro("Invalid input: " << why << "; the previous cut is kept.");
-    output->ShallowCopy(this->Internal->LastOutput);
+    this->Internal->RestoreLastCut(output);
     return 1;
   }
 
@@ -571,7 +578,6 @@ int vtkPerceptualLODSelector::RequestData(
   {
     vtkDebugMacro("The cut draws nothing: " << this->EmptyCutReason << ".");
   }
-  I.LastOutput = I.Prepared;
   this->SelectTime =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   this->NumberOfVisitedNodes = stats.Visited;

@@ -437,9 +437,10 @@ Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const float* sinT
     for (int a = 0; a < 3; ++a)
       f.PlaneUp[p][a] = in.Planes[p][a] > 0 ? 1.0 : 0.0;
   // screen foveation's table (FoveaTable), where it bounds the factor
-  const double gaze = std::sqrt(Dot(in.GazeDirection, in.GazeDirection));
-  if (fovea && in.Foveation == FoveationMode::Screen && !cheng && std::isfinite(velocity) &&
-    std::abs(in.FoveationRate) <= FoveaMaxRate && gaze > 0 && std::isfinite(gaze))
+  const bool table = fovea && in.Foveation == FoveationMode::Screen && !cheng &&
+    std::isfinite(velocity) && std::abs(in.FoveationRate) <= FoveaMaxRate;
+  const double gaze = table ? std::sqrt(Dot(in.GazeDirection, in.GazeDirection)) : 0.0;
+  if (table && gaze > 0 && std::isfinite(gaze))
   {
     if (fovea->Values.empty() || fovea->Rate != in.FoveationRate)
     {
@@ -515,30 +516,27 @@ template <bool WithPriority>
   const float* nf = &v.ConeAxis[3 * n];
   const double axis[3] = { nf[0], nf[1], nf[2] };
   double ve[3], k;
-  double gazeCos; // screen foveation's table: cos theta between the view ray (-ve) and the gaze
+  double toEye[3] = { 0, 0, 0 }, inverse = 1.0; // perspective: eye - vertex, 1 / its length
   if (in.Parallel)
   {
     for (int a = 0; a < 3; ++a)
       ve[a] = -f.Dop[a];
     k = in.PixelScale;
-    gazeCos = Dot(f.Dop, f.Gaze);
   }
   else
   {
-    const double d[3] = { in.Eye[0] - x[0], in.Eye[1] - x[1], in.Eye[2] - x[2] };
-    const double dist = std::sqrt(Dot(d, d));
+    for (int a = 0; a < 3; ++a)
+      toEye[a] = in.Eye[a] - x[a];
+    const double dist = std::sqrt(Dot(toEye, toEye));
     if (!(dist > 0))
     {
       // the eye on the vertex (outside the cell only through rounding): refine
       return Floor(brightnessOnly);
     }
-    const double inverse = 1.0 / dist;
+    inverse = 1.0 / dist;
     for (int a = 0; a < 3; ++a)
-      ve[a] = d[a] * inverse;
+      ve[a] = toEye[a] * inverse;
     k = in.PixelScale * inverse;
-    // from d, not ve: the dot product does not wait for the division (the index only needs to
-    // be within one interval: see FoveaTable)
-    gazeCos = -Dot(d, f.Gaze) * inverse;
   }
 
   const double cosT = f.CosTheta[n], sinT = f.SinTheta[n];
@@ -823,6 +821,10 @@ template <bool WithPriority>
   {
     // screen foveation: the factor's range from the table, without the angle and exponential;
     // exact only when some test falls inside the range (rare: see FoveaTable)
+    // cos theta between the view ray (-ve) and the gaze; in perspective from toEye, not ve: the
+    // dot product does not wait for the division (the index only needs to be within one
+    // interval: see FoveaTable)
+    const double gazeCos = in.Parallel ? Dot(f.Dop, f.Gaze) : -Dot(toEye, f.Gaze) * inverse;
     double range[2];
     FoveaRange(f, gazeCos, range);
     const Decision d =
@@ -1214,8 +1216,9 @@ template <bool EveryTest, class EntryType>
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
   const OctreeView& v = this->View;
+  // (no foveation table: the budget's priorities need the exact factor)
   const Frame frame =
-    MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
+    MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   std::vector<Entry>& stack = this->Stack;
   std::vector<Candidate>& queue = this->Queue;

@@ -194,6 +194,14 @@ def foveation(name, model, rates=(2.0, 8.0), azimuths=(0, 90)):
     return rows
 
 
+def write_rows(path, fields, rows):
+    """Writes `rows` (dicts) to the CSV file `path` with the columns `fields`."""
+    with open(path, 'w', newline='') as f:
+        writer = csv.DictWriter(f, fields)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument('--out', default='docs/results')
@@ -223,11 +231,8 @@ def main():
         for key, model in models:
             inc += incremental(key, model)
         path = os.path.join(args.out, 'incremental.csv')
-        with open(path, 'w', newline='') as f:
-            writer = csv.DictWriter(f, ['model', 'frame', 'azimuth', 'method', 'triangles',
-                                        'budget_triangles', 'visited', 'psnr'])
-            writer.writeheader()
-            writer.writerows(inc)
+        write_rows(path, ['model', 'frame', 'azimuth', 'method', 'triangles', 'budget_triangles',
+                          'visited', 'psnr'], inc)
         for key, _ in models:
             for method in ('full', 'incremental'):
                 r = [x for x in inc if x['model'] == key and x['method'] == method]
@@ -241,11 +246,8 @@ def main():
         for key, model in models:
             fov += foveation(key, model)
         path = os.path.join(args.out, 'foveation_table.csv')
-        with open(path, 'w', newline='') as f:
-            writer = csv.DictWriter(f, ['model', 'azimuth', 'rate', 'walk', 'triangles',
-                                        'visited', 'factors', 'psnr', 'same_cut', 'same_image'])
-            writer.writeheader()
-            writer.writerows(fov)
+        write_rows(path, ['model', 'azimuth', 'rate', 'walk', 'triangles', 'visited', 'factors',
+                          'psnr', 'same_cut', 'same_image'], fov)
         for r in fov:
             print('%(model)-10s az %(azimuth)3d K %(rate)4.1f %(walk)-18s %(triangles)7d tri '
                   '%(visited)7d visited %(factors)7d factors %(psnr)6.2f dB same cut '
@@ -258,20 +260,14 @@ def main():
     for key, model in models:
         rows += measure(key, model)
         nested += nesting(key, model)
-    with open(os.path.join(args.out, 'budget_nesting.csv'), 'w', newline='') as f:
-        writer = csv.DictWriter(f, ['model', 'method', 'steps', 'count', 'coarsened', 'changed',
-                                    'cut_entries'])
-        writer.writeheader()
-        writer.writerows(nested)
+    write_rows(os.path.join(args.out, 'budget_nesting.csv'),
+               ['model', 'method', 'steps', 'count', 'coarsened', 'changed', 'cut_entries'], nested)
     for r in nested:
         print('%(model)-10s %(method)-12s %(steps)d budgets up to %(count)d: %(coarsened)d cells '
               'coarsened as the budget rose, %(changed)d cut entries changed' % r)
     path = os.path.join(args.out, 'budget.csv')
-    with open(path, 'w', newline='') as f:
-        writer = csv.DictWriter(f, ['model', 'azimuth', 'method', 'target', 'budget', 'triangles',
-                                    'budget_triangles', 'fill', 'select_ms', 'psnr'])
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows(path, ['model', 'azimuth', 'method', 'target', 'budget', 'triangles',
+                      'budget_triangles', 'fill', 'select_ms', 'psnr'], rows)
     methods = ('tolerance', 'budget-stop', 'budget-skip', 'budget-stop@count',
                'budget-skip@count', 'QD')
     print('%-10s %3s %8s | %s' % ('model', 'az', 'target',
