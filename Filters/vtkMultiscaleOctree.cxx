@@ -3,6 +3,7 @@
 
 #include "plodCut.h"
 #include "plodOctree.h"
+#include "plodOctreeSchema.h"
 
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -19,8 +20,18 @@
 #include <cstring>
 #include <sstream>
 #include <string>
+#include <type_traits>
 
 vtkStandardNewMacro(vtkMultiscaleOctree);
+
+// the names of the schema's arrays (plodOctreeSchema.h)
+#define PLOD_NAME_FUNCTION(member, group, type, comps, meaning)                                    \
+  const char* vtkMultiscaleOctree::member##ArrayName()                                             \
+  {                                                                                                \
+    return plod::ArrayName(#member, plod::ArrayGroup::group);                                      \
+  }
+PLOD_OCTREE_ALL_ARRAYS(PLOD_NAME_FUNCTION)
+#undef PLOD_NAME_FUNCTION
 
 namespace
 {
@@ -33,6 +44,23 @@ ArrayT* FetchArray(vtkFieldData* fd, const char* name, int comps, vtkIdType n)
     return nullptr;
   }
   return a;
+}
+
+/// Whether `a` holds values of the schema's `type` (vtkIdType for int64).
+bool HoldsSchemaType(vtkDataArray* a, plod::ArrayType type)
+{
+  switch (type)
+  {
+    case plod::ArrayType::UInt8:
+      return a->GetDataType() == VTK_UNSIGNED_CHAR;
+    case plod::ArrayType::Int32:
+      return a->GetDataType() == VTK_INT;
+    case plod::ArrayType::Float32:
+      return a->GetDataType() == VTK_FLOAT;
+    case plod::ArrayType::Int64:
+      return a->GetDataType() == VTK_ID_TYPE;
+  }
+  return false;
 }
 }
 
@@ -168,41 +196,57 @@ double vtkMultiscaleOctree::GetCellEdge(int level) const
 }
 
 //------------------------------------------------------------------------------
+vtkFieldData* vtkMultiscaleOctree::GetFieldDataOf(plod::ArrayGroup group)
+{
+  return group == plod::ArrayGroup::Node ? this->NodeData
+    : group == plod::ArrayGroup::Cluster ? this->ClusterData
+                                         : this->SurfaceData;
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* vtkMultiscaleOctree::NewArray(plod::ArrayType type)
+{
+  switch (type)
+  {
+    case plod::ArrayType::UInt8:
+      return vtkUnsignedCharArray::New();
+    case plod::ArrayType::Int32:
+      return vtkIntArray::New();
+    case plod::ArrayType::Float32:
+      return vtkFloatArray::New();
+    case plod::ArrayType::Int64:
+      return vtkIdTypeArray::New();
+  }
+  return nullptr;
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctree::AddSchemaArray(const plod::ArraySpec& spec, vtkIdType tuples)
+{
+  vtkDataArray* a = NewArray(spec.Type);
+  a->SetName(spec.Name);
+  a->SetNumberOfComponents(spec.Components);
+  a->SetNumberOfTuples(tuples);
+  this->GetFieldDataOf(spec.Group)->AddArray(a);
+  a->Delete();
+}
+
+//------------------------------------------------------------------------------
 void vtkMultiscaleOctree::Allocate(vtkIdType nodes, vtkIdType points, vtkIdType triangles)
 {
   this->NodeData->Initialize();
   this->SurfaceData->Initialize();
   this->ClusterData->Initialize();
-  auto add = [](vtkFieldData* fd, vtkDataArray* a, const char* name, int comps, vtkIdType n) {
-    a->SetName(name);
-    a->SetNumberOfComponents(comps);
-    a->SetNumberOfTuples(n);
-    fd->AddArray(a);
-    a->Delete();
-  };
-  vtkFieldData* fd = this->NodeData;
-  add(fd, vtkUnsignedCharArray::New(), LevelArrayName(), 1, nodes);
-  add(fd, vtkIntArray::New(), ParentArrayName(), 1, nodes);
-  add(fd, vtkIntArray::New(), FirstChildArrayName(), 1, nodes);
-  add(fd, vtkUnsignedCharArray::New(), ChildMaskArrayName(), 1, nodes);
-  add(fd, vtkFloatArray::New(), VertexArrayName(), 3, nodes);
-  add(fd, vtkFloatArray::New(), ConeAxisArrayName(), 3, nodes);
-  add(fd, vtkFloatArray::New(), ConeAngleArrayName(), 1, nodes);
-  add(fd, vtkFloatArray::New(), ShapeErrorArrayName(), 1, nodes);
-  add(fd, vtkFloatArray::New(), DiffuseRangeArrayName(), 2, nodes);
-  add(fd, vtkFloatArray::New(), SpecularRangeArrayName(), 2, nodes);
-  add(fd, vtkUnsignedCharArray::New(), FlagsArrayName(), 1, nodes);
-  add(fd, vtkFloatArray::New(), ThicknessArrayName(), 1, nodes);
-  add(fd, vtkIntArray::New(), FirstPointArrayName(), 1, nodes);
-  add(fd, vtkIdTypeArray::New(), FirstTriangleArrayName(), 1, nodes);
-  add(fd, vtkIntArray::New(), FirstClusterArrayName(), 1, nodes);
-  fd = this->SurfaceData;
-  add(fd, vtkFloatArray::New(), PointsArrayName(), 3, points);
-  add(fd, vtkFloatArray::New(), NormalsArrayName(), 3, points);
-  add(fd, vtkIntArray::New(), PointLeafArrayName(), 1, points);
-  add(fd, vtkIntArray::New(), PointClusterArrayName(), 1, points);
-  add(fd, vtkIdTypeArray::New(), InputPointIdArrayName(), 1, points);
-  add(fd, vtkIntArray::New(), TrianglesArrayName(), 3, triangles);
+  for (const plod::ArraySpec& spec : plod::OctreeSchema)
+  {
+    if (!spec.Optional && spec.Group != plod::ArrayGroup::Cluster)
+    {
+      const vtkIdType tuples = spec.Group == plod::ArrayGroup::Node ? nodes
+        : spec.Group == plod::ArrayGroup::Point                     ? points
+                                                                    : triangles;
+      this->AddSchemaArray(spec, tuples);
+    }
+  }
   this->Modified();
 }
 
@@ -210,28 +254,26 @@ void vtkMultiscaleOctree::Allocate(vtkIdType nodes, vtkIdType points, vtkIdType 
 void vtkMultiscaleOctree::AllocateClusters(vtkIdType clusters)
 {
   this->ClusterData->Initialize();
-  auto add = [this, clusters](vtkDataArray* a, const char* name, int comps) {
-    a->SetName(name);
-    a->SetNumberOfComponents(comps);
-    a->SetNumberOfTuples(clusters);
-    this->ClusterData->AddArray(a);
-    a->Delete();
-  };
-  add(vtkIntArray::New(), ClusterNodeArrayName(), 1);
-  add(vtkIntArray::New(), ClusterParentArrayName(), 1);
-  add(vtkFloatArray::New(), ClusterVertexArrayName(), 3);
-  add(vtkFloatArray::New(), ClusterNormalArrayName(), 3);
+  for (const plod::ArraySpec& spec : plod::OctreeSchema)
+  {
+    if (spec.Group == plod::ArrayGroup::Cluster)
+    {
+      this->AddSchemaArray(spec, clusters);
+    }
+  }
   this->Modified();
 }
 
 //------------------------------------------------------------------------------
 void vtkMultiscaleOctree::AllocatePointGhosts()
 {
-  vtkNew<vtkUnsignedCharArray> a;
-  a->SetName(PointGhostArrayName());
-  a->SetNumberOfComponents(1);
-  a->SetNumberOfTuples(this->GetNumberOfSurfacePoints());
-  this->SurfaceData->AddArray(a);
+  for (const plod::ArraySpec& spec : plod::OctreeSchema)
+  {
+    if (!std::strcmp(spec.Member, "PointGhost"))
+    {
+      this->AddSchemaArray(spec, this->GetNumberOfSurfacePoints());
+    }
+  }
   this->Modified();
 }
 
@@ -261,81 +303,45 @@ bool vtkMultiscaleOctree::GetArrays(plod::OctreeArrays& out)
 {
   static_assert(sizeof(vtkIdType) == sizeof(int64_t), "vtkIdType must be 64-bit");
   out = plod::OctreeArrays();
-  vtkFieldData* fd = this->NodeData;
-  const vtkIdType n = this->GetNumberOfNodes();
-  auto* level = FetchArray<vtkUnsignedCharArray>(fd, LevelArrayName(), 1, n);
-  auto* parent = FetchArray<vtkIntArray>(fd, ParentArrayName(), 1, n);
-  auto* first = FetchArray<vtkIntArray>(fd, FirstChildArrayName(), 1, n);
-  auto* mask = FetchArray<vtkUnsignedCharArray>(fd, ChildMaskArrayName(), 1, n);
-  auto* vertex = FetchArray<vtkFloatArray>(fd, VertexArrayName(), 3, n);
-  auto* axis = FetchArray<vtkFloatArray>(fd, ConeAxisArrayName(), 3, n);
-  auto* angle = FetchArray<vtkFloatArray>(fd, ConeAngleArrayName(), 1, n);
-  auto* shape = FetchArray<vtkFloatArray>(fd, ShapeErrorArrayName(), 1, n);
-  auto* diffuse = FetchArray<vtkFloatArray>(fd, DiffuseRangeArrayName(), 2, n);
-  auto* specular = FetchArray<vtkFloatArray>(fd, SpecularRangeArrayName(), 2, n);
-  auto* flags = FetchArray<vtkUnsignedCharArray>(fd, FlagsArrayName(), 1, n);
-  auto* thickness = FetchArray<vtkFloatArray>(fd, ThicknessArrayName(), 1, n);
-  auto* firstPoint = FetchArray<vtkIntArray>(fd, FirstPointArrayName(), 1, n);
-  auto* firstTriangle = FetchArray<vtkIdTypeArray>(fd, FirstTriangleArrayName(), 1, n);
-  auto* firstCluster = FetchArray<vtkIntArray>(fd, FirstClusterArrayName(), 1, n);
-  const vtkIdType np = this->GetNumberOfSurfacePoints();
-  const vtkIdType nt = this->GetNumberOfSurfaceTriangles();
-  fd = this->SurfaceData;
-  auto* points = FetchArray<vtkFloatArray>(fd, PointsArrayName(), 3, np);
-  auto* normals = FetchArray<vtkFloatArray>(fd, NormalsArrayName(), 3, np);
-  auto* leaf = FetchArray<vtkIntArray>(fd, PointLeafArrayName(), 1, np);
-  auto* pointCluster = FetchArray<vtkIntArray>(fd, PointClusterArrayName(), 1, np);
-  auto* ids = FetchArray<vtkIdTypeArray>(fd, InputPointIdArrayName(), 1, np);
-  auto* triangles = FetchArray<vtkIntArray>(fd, TrianglesArrayName(), 3, nt);
-  if (!level || !parent || !first || !mask || !vertex || !axis || !angle || !shape || !diffuse ||
-    !specular || !flags || !thickness || !firstPoint || !firstTriangle || !firstCluster ||
-    !points || !normals || !leaf || !pointCluster || !ids || !triangles)
+  const vtkIdType tuples[4] = { this->GetNumberOfNodes(), this->GetNumberOfClusters(),
+    this->GetNumberOfSurfacePoints(), this->GetNumberOfSurfaceTriangles() };
+  bool ok = true;
+  bool clusters = true;
+  plod::ForEachArray(out, [&](const plod::ArraySpec& spec, auto& pointer) {
+    using T = std::remove_pointer_t<std::remove_reference_t<decltype(pointer)>>;
+    vtkFieldData* fd = this->GetFieldDataOf(spec.Group);
+    vtkDataArray* a = FetchArray<vtkDataArray>(
+      fd, spec.Name, spec.Components, tuples[static_cast<int>(spec.Group)]);
+    // the array's type must be the schema's (vtkIdType stands for int64)
+    if (a && a->HasStandardMemoryLayout() && HoldsSchemaType(a, spec.Type))
+    {
+      pointer = static_cast<T*>(a->GetVoidPointer(0));
+    }
+    else if (spec.Optional)
+    {
+      // absent, no ghosts; present with another type or size, the octree is malformed
+      // (ignoring it would make every process draw every triangle)
+      ok = ok && !fd->GetAbstractArray(spec.Name);
+    }
+    else if (spec.Group == plod::ArrayGroup::Cluster)
+    {
+      clusters = false; // the cluster arrays come later in a build
+    }
+    else
+    {
+      ok = false;
+    }
+  });
+  if (!clusters)
   {
-    return false;
+    out.ClusterNode = out.ClusterParent = nullptr;
+    out.ClusterVertex = out.ClusterNormal = nullptr;
   }
-  // optional: absent, no ghosts; present with another type or size, the octree is malformed
-  // (ignoring it would make every process draw every triangle)
-  auto* ghost = FetchArray<vtkUnsignedCharArray>(fd, PointGhostArrayName(), 1, np);
-  if (!ghost && fd->GetAbstractArray(PointGhostArrayName()))
+  if (!ok)
   {
-    return false;
+    out = plod::OctreeArrays();
   }
-  out.PointGhost = ghost ? ghost->GetPointer(0) : nullptr;
-  // the cluster arrays come later in a build: absent, their pointers stay null
-  const vtkIdType nc = this->GetNumberOfClusters();
-  auto* cnode = FetchArray<vtkIntArray>(this->ClusterData, ClusterNodeArrayName(), 1, nc);
-  auto* cparent = FetchArray<vtkIntArray>(this->ClusterData, ClusterParentArrayName(), 1, nc);
-  auto* cvertex = FetchArray<vtkFloatArray>(this->ClusterData, ClusterVertexArrayName(), 3, nc);
-  auto* cnormal = FetchArray<vtkFloatArray>(this->ClusterData, ClusterNormalArrayName(), 3, nc);
-  if (cnode && cparent && cvertex && cnormal)
-  {
-    out.ClusterNode = cnode->GetPointer(0);
-    out.ClusterParent = cparent->GetPointer(0);
-    out.ClusterVertex = cvertex->GetPointer(0);
-    out.ClusterNormal = cnormal->GetPointer(0);
-  }
-  out.Level = level->GetPointer(0);
-  out.Parent = parent->GetPointer(0);
-  out.FirstChild = first->GetPointer(0);
-  out.ChildMask = mask->GetPointer(0);
-  out.Vertex = vertex->GetPointer(0);
-  out.ConeAxis = axis->GetPointer(0);
-  out.ConeAngle = angle->GetPointer(0);
-  out.ShapeError = shape->GetPointer(0);
-  out.Diffuse = diffuse->GetPointer(0);
-  out.Specular = specular->GetPointer(0);
-  out.Flags = flags->GetPointer(0);
-  out.Thickness = thickness->GetPointer(0);
-  out.FirstPoint = firstPoint->GetPointer(0);
-  out.FirstTriangle = reinterpret_cast<int64_t*>(firstTriangle->GetPointer(0));
-  out.FirstCluster = firstCluster->GetPointer(0);
-  out.PointCluster = pointCluster->GetPointer(0);
-  out.Points = points->GetPointer(0);
-  out.Normals = normals->GetPointer(0);
-  out.PointLeaf = leaf->GetPointer(0);
-  out.InputPointId = reinterpret_cast<int64_t*>(ids->GetPointer(0));
-  out.Triangles = triangles->GetPointer(0);
-  return true;
+  return ok;
 }
 
 //------------------------------------------------------------------------------
@@ -352,35 +358,12 @@ bool vtkMultiscaleOctree::GetView(plod::OctreeView& view)
   view.FinestLevel = this->FinestLevel;
   std::copy(this->Origin, this->Origin + 3, view.Origin);
   view.RootEdge = this->RootEdge;
-  view.Level = a.Level;
-  view.Parent = a.Parent;
-  view.FirstChild = a.FirstChild;
-  view.ChildMask = a.ChildMask;
-  view.Vertex = a.Vertex;
-  view.ConeAxis = a.ConeAxis;
-  view.ConeAngle = a.ConeAngle;
-  view.ShapeError = a.ShapeError;
-  view.Diffuse = a.Diffuse;
-  view.Specular = a.Specular;
-  view.Flags = a.Flags;
-  view.Thickness = a.Thickness;
-  view.FirstPoint = a.FirstPoint;
-  view.FirstTriangle = a.FirstTriangle;
-  view.FirstCluster = a.FirstCluster;
   view.NumberOfClusters = this->GetNumberOfClusters();
-  view.ClusterNode = a.ClusterNode;
-  view.ClusterParent = a.ClusterParent;
-  view.ClusterVertex = a.ClusterVertex;
-  view.ClusterNormal = a.ClusterNormal;
   view.NumberOfPoints = this->GetNumberOfSurfacePoints();
-  view.Points = a.Points;
-  view.Normals = a.Normals;
-  view.PointLeaf = a.PointLeaf;
-  view.PointCluster = a.PointCluster;
-  view.InputPointId = a.InputPointId;
-  view.PointGhost = a.PointGhost;
   view.NumberOfTriangles = this->GetNumberOfSurfaceTriangles();
-  view.Triangles = a.Triangles;
+#define PLOD_VIEW_OF_ARRAYS(member, group, type, comps, meaning) view.member = a.member;
+  PLOD_OCTREE_ALL_ARRAYS(PLOD_VIEW_OF_ARRAYS)
+#undef PLOD_VIEW_OF_ARRAYS
   return true;
 }
 

@@ -17,49 +17,14 @@
  * for the construction and the reasons for it.
  *
  * Every per-node quantity is a named array in GetNodeData() with one tuple per node, so that
- * Python users read them as numpy arrays (`vtk.util.numpy_support.vtk_to_numpy`):
- *
- * | name | type | comps | meaning |
- * | --- | --- | --- | --- |
- * | `Level` | unsigned char | 1 | 0 for the root |
- * | `Parent` | int | 1 | parent node, -1 for the root |
- * | `FirstChild` | int | 1 | first child node (children are contiguous), -1 for a leaf |
- * | `ChildMask` | unsigned char | 1 | bit `c` set when child `c = x + 2y + 4z` exists |
- * | `Vertex` | float | 3 | representative vertex `v`, *relative to GetOrigin()* |
- * | `ConeAxis` | float | 3 | normal cone axis `n` (unit): the area-weighted mean normal |
- * | `ConeAngle` | float | 1 | normal cone half angle `theta` in radians, in [0, pi] |
- * | `ShapeError` | float | 1 | SRCC eq. (3) over the points inside, world units |
- * | `DiffuseRange` | float | 2 | (min, max) diffuse reflectance in the cell |
- * | `SpecularRange` | float | 2 | (min, max) specular reflectance in the cell |
- * | `Flags` | unsigned char | 1 | bit 0: the cell's sub-mesh is a union of discs (topologically
- * safe to collapse); bit 1: it holds a boundary point of an open surface | | `Thickness` | float |
- * 1 | for a cell that is not topologically safe: how thick a part collapsing it could make vanish
- * (2 sqrt(2 l2) over the points' covariance), world units; 0 otherwise | | `FirstPoint` | int | 1 |
- * the cell's points are [FirstPoint, next node of the level's FirstPoint) | | `FirstTriangle` |
- * vtkIdType | 1 | the triangles the node owns (those that collapse when it is accepted) start here
- * | | `FirstCluster` | int | 1 | the node's clusters are [FirstCluster, next node's FirstCluster) |
- *
- * That is 79 bytes per node. A cell's points fall into clusters, one per connected part of its
- * surface, each with its own representative vertex: the two sheets of a thin wall keep their
- * own vertices at every level. The cluster arrays, in GetClusterData():
- *
- * | name | type | comps | meaning |
- * | --- | --- | --- | --- |
- * | `Node` | int | 1 | the cluster's node |
- * | `Parent` | int | 1 | the cluster of the parent node holding its points (-1 at the root) |
- * | `Vertex` | float | 3 | its representative vertex, relative to GetOrigin() |
- * | `Normal` | float | 3 | its shading normal (unit) |
- * Nodes are stored level by level and, inside a level, in Morton
- * order. The surface arrays, in GetSurfaceData():
- *
- * | name | type | comps | meaning |
- * | --- | --- | --- | --- |
- * | `Points` | float | 3 | input points used by a triangle, in Morton order, relative to
- * GetOrigin() | | `Normals` | float | 3 | their unit shading normals (the input's, or computed as
- * vtkPolyDataNormals does without splitting) | | `PointLeaf` | int | 1 | the leaf holding each
- * point | | `PointCluster` | int | 1 | the leaf cluster holding each point | | `InputPointId` |
- * vtkIdType | 1 | each point's index in the builder's input (-1 for points contoured from a cloud)
- * | | `Triangles` | int | 3 | point indices, oriented as in the input, sorted by owner node |
+ * Python users read them as numpy arrays (`vtk.util.numpy_support.vtk_to_numpy`). A cell's
+ * points fall into clusters, one per connected part of its surface, each with its own
+ * representative vertex (the two sheets of a thin wall keep their own vertices at every level):
+ * their arrays are in GetClusterData(). The input's points, normals and triangles are in
+ * GetSurfaceData(). Every array, with its type, components and meaning, is listed once in
+ * `Filters/Core/plodOctreeSchema.h` and shown as a table in `docs/octree-schema.md`; the
+ * `...ArrayName()` functions below return their names. Nodes are stored level by level and,
+ * inside a level, in Morton order (plodOctree.h gives the rules that tie the arrays together).
  *
  * One optional surface array, `PointGhost` (unsigned char, 1 component, one per point), exists
  * when the builder's input carried VTK's point ghost array (vtkGhostType): 1 for a point owned by
@@ -94,13 +59,18 @@
 #include <vector> // for the check's key
 
 #ifndef __VTK_WRAP__
+#include <cstdint> // for the schema's enums
 namespace plod
 {
 struct OctreeView;
 struct OctreeArrays;
+struct ArraySpec;
+enum class ArrayGroup : uint8_t;
+enum class ArrayType : uint8_t;
 }
 #endif
 
+class vtkDataArray;
 class vtkFieldData;
 class vtkInformation;
 class vtkInformationVector;
@@ -232,33 +202,33 @@ public:
   bool IsConsistent() { return this->CheckConsistency(nullptr); }
 
   ///@{
-  /// Names of the node arrays.
-  static const char* LevelArrayName() { return "Level"; }
-  static const char* ParentArrayName() { return "Parent"; }
-  static const char* FirstChildArrayName() { return "FirstChild"; }
-  static const char* ChildMaskArrayName() { return "ChildMask"; }
-  static const char* VertexArrayName() { return "Vertex"; }
-  static const char* ConeAxisArrayName() { return "ConeAxis"; }
-  static const char* ConeAngleArrayName() { return "ConeAngle"; }
-  static const char* ShapeErrorArrayName() { return "ShapeError"; }
-  static const char* DiffuseRangeArrayName() { return "DiffuseRange"; }
-  static const char* SpecularRangeArrayName() { return "SpecularRange"; }
-  static const char* FlagsArrayName() { return "Flags"; }
-  static const char* ThicknessArrayName() { return "Thickness"; }
-  static const char* FirstPointArrayName() { return "FirstPoint"; }
-  static const char* FirstTriangleArrayName() { return "FirstTriangle"; }
-  static const char* FirstClusterArrayName() { return "FirstCluster"; }
-  static const char* PointClusterArrayName() { return "PointCluster"; }
-  static const char* ClusterNodeArrayName() { return "Node"; }
-  static const char* ClusterParentArrayName() { return "Parent"; }
-  static const char* ClusterVertexArrayName() { return "Vertex"; }
-  static const char* ClusterNormalArrayName() { return "Normal"; }
-  static const char* PointsArrayName() { return "Points"; }
-  static const char* NormalsArrayName() { return "Normals"; }
-  static const char* PointLeafArrayName() { return "PointLeaf"; }
-  static const char* InputPointIdArrayName() { return "InputPointId"; }
-  static const char* PointGhostArrayName() { return "PointGhost"; }
-  static const char* TrianglesArrayName() { return "Triangles"; }
+  /// Names of the arrays (plodOctreeSchema.h): node arrays, cluster arrays, surface arrays.
+  static const char* LevelArrayName();
+  static const char* ParentArrayName();
+  static const char* FirstChildArrayName();
+  static const char* ChildMaskArrayName();
+  static const char* VertexArrayName();
+  static const char* ConeAxisArrayName();
+  static const char* ConeAngleArrayName();
+  static const char* ShapeErrorArrayName();
+  static const char* DiffuseRangeArrayName();
+  static const char* SpecularRangeArrayName();
+  static const char* FlagsArrayName();
+  static const char* ThicknessArrayName();
+  static const char* FirstPointArrayName();
+  static const char* FirstTriangleArrayName();
+  static const char* FirstClusterArrayName();
+  static const char* ClusterNodeArrayName();
+  static const char* ClusterParentArrayName();
+  static const char* ClusterVertexArrayName();
+  static const char* ClusterNormalArrayName();
+  static const char* PointsArrayName();
+  static const char* NormalsArrayName();
+  static const char* PointLeafArrayName();
+  static const char* PointClusterArrayName();
+  static const char* InputPointIdArrayName();
+  static const char* TrianglesArrayName();
+  static const char* PointGhostArrayName();
   ///@}
 
   /// Bits of the Flags array: the cell's sub-mesh is a union of discs; it holds boundary points.
@@ -320,6 +290,10 @@ public:
    * is made again: caches derived from the arrays can follow it.
    */
   bool GetCheckedView(plod::OctreeView& view, vtkMTimeType* time, std::string* why);
+  /// The field data that holds the arrays of `group` (node, cluster, or surface).
+  vtkFieldData* GetFieldDataOf(plod::ArrayGroup group);
+  /// A new, empty VTK array for values of `type` (vtkIdTypeArray for int64).
+  static vtkDataArray* NewArray(plod::ArrayType type);
 #endif
 
 protected:
@@ -367,6 +341,10 @@ protected:
   // the view made with the check (when consistent), and the stamp GetCheckedView reports
   std::shared_ptr<const plod::OctreeView> CheckedView;
   vtkMTimeType CheckedStamp = 0;
+#ifndef __VTK_WRAP__
+  /// Adds the schema's array `spec` with `tuples` tuples (contents undefined).
+  void AddSchemaArray(const plod::ArraySpec& spec, vtkIdType tuples);
+#endif
 
 private:
   vtkMultiscaleOctree(const vtkMultiscaleOctree&) = delete;

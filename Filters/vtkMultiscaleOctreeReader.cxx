@@ -47,21 +47,6 @@ void ReleaseMapped(void* data)
   }
 }
 
-vtkDataArray* NewArray(plod::FileArrayType type)
-{
-  switch (type)
-  {
-    case plod::FileArrayType::UInt8:
-      return vtkUnsignedCharArray::New();
-    case plod::FileArrayType::Int32:
-      return vtkIntArray::New();
-    case plod::FileArrayType::Float32:
-      return vtkFloatArray::New();
-    case plod::FileArrayType::Int64:
-      return vtkIdTypeArray::New();
-  }
-  return nullptr;
-}
 }
 
 //------------------------------------------------------------------------------
@@ -130,10 +115,10 @@ int vtkMultiscaleOctreeReader::RequestData(
       return 1;
     }
     size_t k = 0;
-    for (const plod::FileArraySpec& spec : plod::OctreeFileSchema())
+    for (const plod::ArraySpec& spec : plod::OctreeFileSchema())
     {
       const plod::FileArray& f = *found[k++];
-      vtkDataArray* a = NewArray(f.Type);
+      vtkDataArray* a = vtkMultiscaleOctree::NewArray(f.Type);
       a->SetName(f.Name.c_str());
       a->SetNumberOfComponents(f.Components);
       const vtkIdType values = static_cast<vtkIdType>(f.Tuples) * f.Components;
@@ -147,10 +132,7 @@ int vtkMultiscaleOctreeReader::RequestData(
         a->SetVoidArray(data, values, 0, vtkAbstractArray::VTK_DATA_ARRAY_USER_DEFINED);
         a->SetArrayFreeFunction(ReleaseMapped);
       }
-      vtkFieldData* fd = spec.Group == plod::FileArrayGroup::Node ? output->GetNodeData()
-        : spec.Group == plod::FileArrayGroup::Cluster             ? output->GetClusterData()
-                                                                  : output->GetSurfaceData();
-      fd->AddArray(a);
+      output->GetFieldDataOf(spec.Group)->AddArray(a);
       a->Delete();
     }
   }

@@ -199,7 +199,7 @@ int vtkMultiscalePatchGenerator::RequestData(
     colors->SetNumberOfTuples(np);
     for (vtkIdType i = 0; i < np; ++i)
     {
-      const float* d = &v.Diffuse[2 * nodeOf(r.PointSource[i])];
+      const float* d = &v.DiffuseRange[2 * nodeOf(r.PointSource[i])];
       const double kd = std::min(1.0, std::max(0.0, 0.5 * (double(d[0]) + d[1])));
       const unsigned char g = static_cast<unsigned char>(std::lround(255.0 * kd));
       colors->SetTypedTuple(i, std::array<unsigned char, 3>{ g, g, g }.data());

@@ -35,8 +35,8 @@ plod::OctreeView ViewOf(T& t, int nodes)
   v.ConeAxis = t.Axis;
   v.ConeAngle = t.Angle;
   v.ShapeError = t.Shape;
-  v.Diffuse = t.Diffuse;
-  v.Specular = t.Specular;
+  v.DiffuseRange = t.Diffuse;
+  v.SpecularRange = t.Specular;
   v.Flags = t.Flags;
   v.Thickness = t.Thickness;
   v.FirstPoint = t.FirstPoint;

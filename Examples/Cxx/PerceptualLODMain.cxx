@@ -137,7 +137,8 @@ int main(int argc, char* argv[])
 
   vtkFieldData* nd = octree->GetNodeData();
   auto* lv = vtkUnsignedCharArray::SafeDownCast(nd->GetArray("Level"));
-  auto* angle = vtkFloatArray::SafeDownCast(nd->GetArray("ConeAngle"));
+  auto* angle =
+    vtkFloatArray::SafeDownCast(nd->GetArray(vtkMultiscaleOctree::ConeAngleArrayName()));
   auto* shape = vtkFloatArray::SafeDownCast(nd->GetArray("ShapeError"));
   vtkNew<vtkMultiscaleOctreeCutter> cutter;
   cutter->SetInputData(octree);

@@ -27,14 +27,16 @@ bool ValidateOctree(const OctreeView& v, std::string* why)
   {
     return fail("node, point or triangle count out of range");
   }
-  if (!v.Level || !v.Parent || !v.FirstChild || !v.ChildMask || !v.Vertex || !v.ConeAxis ||
-    !v.ConeAngle || !v.ShapeError || !v.Diffuse || !v.Specular || !v.Flags || !v.Thickness ||
-    !v.FirstPoint || !v.FirstTriangle || !v.FirstCluster || !v.ClusterNode || !v.ClusterParent ||
-    !v.ClusterVertex || !v.ClusterNormal ||
-    (v.NumberOfPoints > 0 && (!v.Points || !v.Normals || !v.PointLeaf || !v.PointCluster)) ||
-    (v.NumberOfTriangles > 0 && !v.Triangles))
+  const char* missing = nullptr;
+  ForEachArray(v, [&](const ArraySpec& spec, const auto* pointer) {
+    if (!missing && !spec.Optional && v.TupleCount(spec.Group) > 0 && !pointer)
+    {
+      missing = spec.Member;
+    }
+  });
+  if (missing)
   {
-    return fail("an octree array is missing");
+    return fail(std::string("the octree array ") + missing + " is missing");
   }
   if (!(v.RootEdge > 0) || !std::isfinite(v.RootEdge) || v.FinestLevel < 0 ||
     v.FinestLevel > MaxFinestLevel || !std::isfinite(v.Origin[0]) || !std::isfinite(v.Origin[1]) ||

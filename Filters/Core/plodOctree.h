@@ -63,6 +63,8 @@
 #ifndef plodOctree_h
 #define plodOctree_h
 
+#include "plodOctreeSchema.h"
+
 #include <cstdint>
 #include <string>
 
@@ -88,39 +90,28 @@ struct OctreeView
   double Origin[3] = { 0, 0, 0 };
   double RootEdge = 1;
 
-  const uint8_t* Level = nullptr;
-  const int32_t* Parent = nullptr;
-  const int32_t* FirstChild = nullptr;
-  const uint8_t* ChildMask = nullptr;
-  const float* Vertex = nullptr;     // 3 per node, relative to Origin
-  const float* ConeAxis = nullptr;   // 3 per node, unit
-  const float* ConeAngle = nullptr;  // radians in [0, pi]
-  const float* ShapeError = nullptr; // world units
-  const float* Diffuse = nullptr;    // (min, max) per node
-  const float* Specular = nullptr;   // (min, max) per node
-  const uint8_t* Flags = nullptr;
-  const float* Thickness = nullptr; // world units
-  const int32_t* FirstPoint = nullptr;
-  const int64_t* FirstTriangle = nullptr;
-  const int32_t* FirstCluster = nullptr;
-
   int64_t NumberOfClusters = 0;
-  const int32_t* ClusterNode = nullptr;
-  const int32_t* ClusterParent = nullptr; // -1 for the root's clusters
-  const float* ClusterVertex = nullptr;   // 3 per cluster, relative to Origin
-  const float* ClusterNormal = nullptr;   // 3 per cluster, unit
-
   int64_t NumberOfPoints = 0;
-  const float* Points = nullptr;  // 3 per point, relative to Origin
-  const float* Normals = nullptr; // 3 per point, unit
-  const int32_t* PointLeaf = nullptr;
-  const int32_t* PointCluster = nullptr; // the leaf cluster of each point
-  const int64_t* InputPointId = nullptr; // the input point of each surface point, -1 if none
-  const uint8_t* PointGhost = nullptr;   // per surface point, non-zero: a ghost; null: none
   int64_t NumberOfTriangles = 0;
-  const int32_t* Triangles = nullptr; // 3 per triangle
 
-  bool IsLeaf(int64_t node) const { return this->ChildMask[node] == 0; }
+  // one pointer per array of plodOctreeSchema.h (optional ones may be null)
+#define PLOD_VIEW_MEMBER(member, group, type, comps, meaning) const type* member = nullptr;
+  PLOD_OCTREE_ALL_ARRAYS(PLOD_VIEW_MEMBER)
+#undef PLOD_VIEW_MEMBER
+
+  /// Number of tuples of the arrays of `group`.
+  int64_t TupleCount(ArrayGroup group) const
+  {
+    return group == ArrayGroup::Node ? this->NumberOfNodes
+      : group == ArrayGroup::Cluster ? this->NumberOfClusters
+      : group == ArrayGroup::Point   ? this->NumberOfPoints
+                                     : this->NumberOfTriangles;
+  }
+
+  bool IsLeaf(int64_t node) const
+  {
+    return this->ChildMask[node] == 0;
+  }
 
   /// One past the last point inside `node`.
   int64_t PointEnd(int64_t node) const
@@ -195,39 +186,33 @@ struct OctreeView
   }
 
   /// Edge length of a cell at `level`.
-  double CellEdge(int level) const { return this->RootEdge / static_cast<double>(1u << level); }
+  double CellEdge(int level) const
+  {
+    return this->RootEdge / static_cast<double>(1u << level);
+  }
 };
 
 /// Writable arrays, filled by the builder after it has counted nodes, points and triangles.
 struct OctreeArrays
 {
-  uint8_t* Level = nullptr;
-  int32_t* Parent = nullptr;
-  int32_t* FirstChild = nullptr;
-  uint8_t* ChildMask = nullptr;
-  float* Vertex = nullptr;
-  float* ConeAxis = nullptr;
-  float* ConeAngle = nullptr;
-  float* ShapeError = nullptr;
-  float* Diffuse = nullptr;
-  float* Specular = nullptr;
-  uint8_t* Flags = nullptr;
-  float* Thickness = nullptr;
-  int32_t* FirstPoint = nullptr;
-  int64_t* FirstTriangle = nullptr;
-  int32_t* FirstCluster = nullptr;
-  int32_t* ClusterNode = nullptr;
-  int32_t* ClusterParent = nullptr;
-  float* ClusterVertex = nullptr;
-  float* ClusterNormal = nullptr;
-  float* Points = nullptr;
-  float* Normals = nullptr;
-  int32_t* PointLeaf = nullptr;
-  int32_t* PointCluster = nullptr;
-  int64_t* InputPointId = nullptr;
-  uint8_t* PointGhost = nullptr; // optional (Allocator::PointGhost)
-  int32_t* Triangles = nullptr;
+#define PLOD_ARRAYS_MEMBER(member, group, type, comps, meaning) type* member = nullptr;
+  PLOD_OCTREE_ALL_ARRAYS(PLOD_ARRAYS_MEMBER)
+#undef PLOD_ARRAYS_MEMBER
 };
+
+/**
+ * Calls `f(spec, pointer)` for every array of plodOctreeSchema.h, in schema order, with the
+ * array's ArraySpec and a reference to its member in `arrays` (an OctreeView, OctreeArrays or
+ * any struct with a member per array, such as OctreeStorage's vectors).
+ */
+template <typename Arrays, typename F>
+void ForEachArray(Arrays& arrays, F&& f)
+{
+  int k = 0;
+#define PLOD_VISIT_ARRAY(member, group, type, comps, meaning) f(OctreeSchema[k++], arrays.member);
+  PLOD_OCTREE_ALL_ARRAYS(PLOD_VISIT_ARRAY)
+#undef PLOD_VISIT_ARRAY
+}
 
 /**
  * Checks, in time linear in the size of the arrays, everything the kernels rely on: array

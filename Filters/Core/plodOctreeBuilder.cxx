@@ -36,12 +36,14 @@ void SerialFor(int64_t n, int64_t grain, const std::function<void(int64_t, int64
 
 double EstimateBuildMemory(int64_t points, int64_t triangles, int64_t nodes, bool cloud)
 {
-  // outputs: 71 bytes per node; 36 per point (position, normal, leaf, input id); 12 per
-  // triangle. Work arrays at the peak (cluster union-find, edge lists, incidence lists, the
-  // cell sums of the level above the leaves). Measured with PerceptualLODScale on generated
-  // models of 1M and 4M triangles at levels 7 to 10: the build's own peak was 0.85 to 1.16
-  // times this estimate (under it only when forced to about one leaf per point).
-  const double out = 71.0 * nodes + 36.0 * points + 12.0 * triangles;
+  // outputs: the schema's arrays (plodOctreeSchema.h), with one cluster per node (a lower
+  // bound: a cell has a cluster per connected part). Work arrays at the peak (cluster
+  // union-find, edge lists, incidence lists, the cell sums of the level above the leaves), per
+  // item as counted from the build's own allocations; docs/benchmarks.md compares the estimate
+  // with the measured peak.
+  const double out = double(BytesPer(ArrayGroup::Node) + BytesPer(ArrayGroup::Cluster)) * nodes +
+    double(BytesPer(ArrayGroup::Point)) * points +
+    double(BytesPer(ArrayGroup::Triangle)) * triangles;
   const double work = 150.0 * nodes + 28.0 * points + 24.0 * triangles;
   // a cloud's own contouring first: items, normals and corner values per point
   const double cloudWork = cloud ? 120.0 * points : 0.0;
@@ -1761,8 +1763,8 @@ bool MeshBuild::ComputeCells()
     for (int a = 0; a < 3; ++a)
       o.ConeAxis[3 * leaf + a] = static_cast<float>(axis[a]);
     o.ConeAngle[leaf] = static_cast<float>(theta);
-    d.Store(&o.Diffuse[2 * leaf], ud);
-    sp.Store(&o.Specular[2 * leaf], us);
+    d.Store(&o.DiffuseRange[2 * leaf], ud);
+    sp.Store(&o.SpecularRange[2 * leaf], us);
   };
 
   // an inner cell at level l, its clusters' sums already gathered from its children
@@ -1780,8 +1782,8 @@ bool MeshBuild::ComputeCells()
         childAxis[c][a] = o.ConeAxis[3 * ch + a];
       }
       childAngle[c] = o.ConeAngle[ch];
-      d.Add(&o.Diffuse[2 * ch]);
-      sp.Add(&o.Specular[2 * ch]);
+      d.Add(&o.DiffuseRange[2 * ch]);
+      sp.Add(&o.SpecularRange[2 * ch]);
     }
     addPassing(node, normals, d, sp);
     CellSums total;
@@ -1796,8 +1798,8 @@ bool MeshBuild::ComputeCells()
     for (int a = 0; a < 3; ++a)
       o.ConeAxis[3 * node + a] = static_cast<float>(axis[a]);
     o.ConeAngle[node] = static_cast<float>(theta);
-    d.Store(&o.Diffuse[2 * node], ud);
-    sp.Store(&o.Specular[2 * node], us);
+    d.Store(&o.DiffuseRange[2 * node], ud);
+    sp.Store(&o.SpecularRange[2 * node], us);
   };
 
   if (L == 0)

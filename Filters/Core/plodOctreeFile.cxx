@@ -116,97 +116,26 @@ struct FileCloser
 };
 } // namespace
 
-const std::vector<FileArraySpec>& OctreeFileSchema()
+const std::vector<ArraySpec>& OctreeFileSchema()
 {
-  using G = FileArrayGroup;
-  using T = FileArrayType;
-  static const std::vector<FileArraySpec> schema = {
-    { "Level", G::Node, T::UInt8, 1 },
-    { "Parent", G::Node, T::Int32, 1 },
-    { "FirstChild", G::Node, T::Int32, 1 },
-    { "ChildMask", G::Node, T::UInt8, 1 },
-    { "Vertex", G::Node, T::Float32, 3 },
-    { "ConeAxis", G::Node, T::Float32, 3 },
-    { "ConeAngle", G::Node, T::Float32, 1 },
-    { "ShapeError", G::Node, T::Float32, 1 },
-    { "DiffuseRange", G::Node, T::Float32, 2 },
-    { "SpecularRange", G::Node, T::Float32, 2 },
-    { "Flags", G::Node, T::UInt8, 1 },
-    { "Thickness", G::Node, T::Float32, 1 },
-    { "FirstPoint", G::Node, T::Int32, 1 },
-    { "FirstTriangle", G::Node, T::Int64, 1 },
-    { "FirstCluster", G::Node, T::Int32, 1 },
-    { "Node", G::Cluster, T::Int32, 1 },
-    { "Parent", G::Cluster, T::Int32, 1 },
-    { "Vertex", G::Cluster, T::Float32, 3 },
-    { "Normal", G::Cluster, T::Float32, 3 },
-    { "Points", G::Point, T::Float32, 3 },
-    { "Normals", G::Point, T::Float32, 3 },
-    { "PointLeaf", G::Point, T::Int32, 1 },
-    { "PointCluster", G::Point, T::Int32, 1 },
-    { "InputPointId", G::Point, T::Int64, 1 },
-    { "Triangles", G::Triangle, T::Int32, 3 },
-  };
+  static const std::vector<ArraySpec> schema(OctreeSchema, OctreeSchema + OctreeRequiredArrays);
   return schema;
 }
 
-namespace
+std::vector<FileArray> FileArraysOf(const OctreeView& v)
 {
-/// Calls `f` on each array pointer of `v` in OctreeFileSchema() order.
-template <typename F>
-void ForEachArray(OctreeView& v, F f)
-{
-  f(v.Level);
-  f(v.Parent);
-  f(v.FirstChild);
-  f(v.ChildMask);
-  f(v.Vertex);
-  f(v.ConeAxis);
-  f(v.ConeAngle);
-  f(v.ShapeError);
-  f(v.Diffuse);
-  f(v.Specular);
-  f(v.Flags);
-  f(v.Thickness);
-  f(v.FirstPoint);
-  f(v.FirstTriangle);
-  f(v.FirstCluster);
-  f(v.ClusterNode);
-  f(v.ClusterParent);
-  f(v.ClusterVertex);
-  f(v.ClusterNormal);
-  f(v.Points);
-  f(v.Normals);
-  f(v.PointLeaf);
-  f(v.PointCluster);
-  f(v.InputPointId);
-  f(v.Triangles);
-}
-
-int64_t TuplesOf(
-  FileArrayGroup group, int64_t nodes, int64_t clusters, int64_t points, int64_t triangles)
-{
-  return group == FileArrayGroup::Node ? nodes
-    : group == FileArrayGroup::Cluster ? clusters
-    : group == FileArrayGroup::Point   ? points
-                                       : triangles;
-}
-}
-
-std::vector<FileArray> FileArraysOf(const OctreeView& view)
-{
-  OctreeView v = view;
   std::vector<FileArray> arrays;
-  const std::vector<FileArraySpec>& schema = OctreeFileSchema();
-  ForEachArray(v, [&](auto& pointer) {
-    const FileArraySpec& spec = schema[arrays.size()];
+  ForEachArray(v, [&](const ArraySpec& spec, const void* pointer) {
+    if (spec.Optional)
+    {
+      return; // not stored in files
+    }
     FileArray f;
     f.Name = spec.Name;
     f.Group = spec.Group;
     f.Type = spec.Type;
     f.Components = spec.Components;
-    f.Tuples = TuplesOf(
-      spec.Group, v.NumberOfNodes, v.NumberOfClusters, v.NumberOfPoints, v.NumberOfTriangles);
+    f.Tuples = v.TupleCount(spec.Group);
     f.Data = pointer;
     arrays.push_back(f);
   });
@@ -230,8 +159,11 @@ bool ViewOfFile(const OctreeFile& file, OctreeView& v, std::string* why)
   v.NumberOfPoints = h.Points;
   v.NumberOfTriangles = h.Triangles;
   size_t k = 0;
-  ForEachArray(v, [&](auto& pointer) {
-    pointer = static_cast<std::remove_reference_t<decltype(pointer)>>(found[k++]->Data);
+  ForEachArray(v, [&](const ArraySpec& spec, auto& pointer) {
+    if (!spec.Optional)
+    {
+      pointer = static_cast<std::remove_reference_t<decltype(pointer)>>(found[k++]->Data);
+    }
   });
   return true;
 }
@@ -239,7 +171,7 @@ bool ViewOfFile(const OctreeFile& file, OctreeView& v, std::string* why)
 bool MatchSchema(const OctreeFile& file, std::vector<const FileArray*>& arrays, std::string* why)
 {
   arrays.clear();
-  for (const FileArraySpec& spec : OctreeFileSchema())
+  for (const ArraySpec& spec : OctreeFileSchema())
   {
     const FileArray* match = nullptr;
     for (const FileArray& f : file.Arrays)
@@ -263,17 +195,7 @@ bool MatchSchema(const OctreeFile& file, std::vector<const FileArray*>& arrays, 
 
 int FileTypeSize(FileArrayType type)
 {
-  switch (type)
-  {
-    case FileArrayType::UInt8:
-      return 1;
-    case FileArrayType::Int32:
-    case FileArrayType::Float32:
-      return 4;
-    case FileArrayType::Int64:
-      return 8;
-  }
-  return 0;
+  return ArrayTypeSize(type);
 }
 
 uint64_t FileChecksum(const void* data, size_t bytes)

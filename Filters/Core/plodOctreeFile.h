@@ -40,6 +40,7 @@
 #define plodOctreeFile_h
 
 #include "plodOctree.h"
+#include "plodOctreeSchema.h"
 
 #include <cstdint>
 #include <memory>
@@ -60,22 +61,9 @@ struct OctreeFileHeader
   int64_t BoundaryEdges = 0, NonManifoldEdges = 0;
 };
 
-enum class FileArrayType : uint8_t
-{
-  UInt8 = 1,
-  Int32 = 2,
-  Float32 = 3,
-  Int64 = 4
-};
-
-/// What an array has one tuple per.
-enum class FileArrayGroup : uint8_t
-{
-  Node = 0,
-  Cluster = 1,
-  Point = 2,
-  Triangle = 3
-};
+/// The value types and groups of the file's arrays are the schema's (plodOctreeSchema.h).
+using FileArrayType = ArrayType;
+using FileArrayGroup = ArrayGroup;
 
 /// Size in bytes of one value of a type (0 for an unknown type).
 int FileTypeSize(FileArrayType type);
@@ -92,18 +80,9 @@ struct FileArray
   uint64_t Checksum = 0;      // when read: the stored one
 };
 
-/// One array of the octree's schema (vtkMultiscaleOctree's documented arrays).
-struct FileArraySpec
-{
-  const char* Name;
-  FileArrayGroup Group;
-  FileArrayType Type;
-  int Components;
-};
-
-/// The arrays an octree file of version 1 holds, in file order: the 15 node arrays, the 4
-/// cluster arrays, the 5 point arrays and the triangles.
-const std::vector<FileArraySpec>& OctreeFileSchema();
+/// The arrays an octree file of version 1 holds, in file order: the required arrays of
+/// plodOctreeSchema.h (the optional ones are not stored).
+const std::vector<ArraySpec>& OctreeFileSchema();
 
 /// Writes `arrays` and `header` to `path` (replacing it). False with `error` set on failure.
 bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,

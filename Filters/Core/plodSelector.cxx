@@ -709,10 +709,10 @@ template <bool WithPriority>
       if (!in.Lights.empty())
       {
         // TMM eq. (9): the octree's (min, max) reflectances; one material: min = max
-        const double MdMin = in.UseOctreeMaterial ? v.Diffuse[2 * n] : in.Diffuse;
-        const double MdMax = in.UseOctreeMaterial ? v.Diffuse[2 * n + 1] : in.Diffuse;
-        const double MsMin = in.UseOctreeMaterial ? v.Specular[2 * n] : in.Specular;
-        const double MsMax = in.UseOctreeMaterial ? v.Specular[2 * n + 1] : in.Specular;
+        const double MdMin = in.UseOctreeMaterial ? v.DiffuseRange[2 * n] : in.Diffuse;
+        const double MdMax = in.UseOctreeMaterial ? v.DiffuseRange[2 * n + 1] : in.Diffuse;
+        const double MsMin = in.UseOctreeMaterial ? v.SpecularRange[2 * n] : in.Specular;
+        const double MsMax = in.UseOctreeMaterial ? v.SpecularRange[2 * n + 1] : in.Specular;
         for (const Frame::Light& l : f.Lights)
         {
           if (dB >= 1.0)

@@ -1276,41 +1276,23 @@ void CheckClustersAndFlags(const plod::OctreeView& v, const plod::BuildResult& r
 void CheckSameBuild(
   const Storage& a, const plod::BuildResult& ra, const Storage& b, const plod::BuildResult& rb)
 {
-  auto same = [](const auto& x, const auto& y, const char* name) {
-    CHECK(x.size() == y.size() &&
-        (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0),
-      std::string("array ") + name + " depends on how ParallelFor splits the work");
-  };
   CHECK(ra.Ok == rb.Ok && ra.Error == rb.Error && ra.FinestLevel == rb.FinestLevel &&
       ra.NumberOfNodes == rb.NumberOfNodes && ra.NumberOfClusters == rb.NumberOfClusters &&
       std::memcmp(ra.Origin, rb.Origin, sizeof ra.Origin) == 0 && ra.RootEdge == rb.RootEdge &&
       ra.NumberOfUnsafeNodes == rb.NumberOfUnsafeNodes,
     "the result depends on how ParallelFor splits the work: " + ra.Error + " / " + rb.Error);
-  same(a.Level, b.Level, "Level");
-  same(a.Parent, b.Parent, "Parent");
-  same(a.FirstChild, b.FirstChild, "FirstChild");
-  same(a.ChildMask, b.ChildMask, "ChildMask");
-  same(a.Vertex, b.Vertex, "Vertex");
-  same(a.ConeAxis, b.ConeAxis, "ConeAxis");
-  same(a.ConeAngle, b.ConeAngle, "ConeAngle");
-  same(a.ShapeError, b.ShapeError, "ShapeError");
-  same(a.Diffuse, b.Diffuse, "Diffuse");
-  same(a.Specular, b.Specular, "Specular");
-  same(a.Flags, b.Flags, "Flags");
-  same(a.Thickness, b.Thickness, "Thickness");
-  same(a.FirstPoint, b.FirstPoint, "FirstPoint");
-  same(a.FirstTriangle, b.FirstTriangle, "FirstTriangle");
-  same(a.FirstCluster, b.FirstCluster, "FirstCluster");
-  same(a.ClusterNode, b.ClusterNode, "ClusterNode");
-  same(a.ClusterParent, b.ClusterParent, "ClusterParent");
-  same(a.ClusterVertex, b.ClusterVertex, "ClusterVertex");
-  same(a.ClusterNormal, b.ClusterNormal, "ClusterNormal");
-  same(a.Points, b.Points, "Points");
-  same(a.Normals, b.Normals, "Normals");
-  same(a.PointLeaf, b.PointLeaf, "PointLeaf");
-  same(a.PointCluster, b.PointCluster, "PointCluster");
-  same(a.InputPointId, b.InputPointId, "InputPointId");
-  same(a.Triangles, b.Triangles, "Triangles");
+  // every array of the schema, pairwise (ForEachArray visits both storages in one order)
+  std::vector<std::pair<const plod::ArraySpec*, std::pair<const void*, size_t>>> bytesOfB;
+  plod::ForEachArray(b, [&](const plod::ArraySpec& spec, const auto& y) {
+    bytesOfB.push_back({ &spec, { y.data(), y.size() * sizeof(y[0]) } });
+  });
+  size_t k = 0;
+  plod::ForEachArray(a, [&](const plod::ArraySpec& spec, const auto& x) {
+    const auto& y = bytesOfB[k++].second;
+    CHECK(x.size() * sizeof(x[0]) == y.second &&
+        (x.empty() || std::memcmp(x.data(), y.first, y.second) == 0),
+      std::string("array ") + spec.Member + " depends on how ParallelFor splits the work");
+  });
 }
 
 // ------------------------------------------------------------------------------------------------

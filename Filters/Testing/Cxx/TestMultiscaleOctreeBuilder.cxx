@@ -834,13 +834,13 @@ TEST(MultiscaleOctreeBuilder, MaterialFromArrays)
       lo = std::min(lo, kd->GetValue(v.InputPointId[p]));
       hi = std::max(hi, kd->GetValue(v.InputPointId[p]));
     }
-    EXPECT_LE(v.Diffuse[2 * n], lo) << n;
-    EXPECT_GE(v.Diffuse[2 * n + 1], hi) << n;
-    EXPECT_GE(v.Diffuse[2 * n], 0.1f - 1e-6f);
-    EXPECT_LE(v.Diffuse[2 * n + 1], 0.9f + 1e-6f);
+    EXPECT_LE(v.DiffuseRange[2 * n], lo) << n;
+    EXPECT_GE(v.DiffuseRange[2 * n + 1], hi) << n;
+    EXPECT_GE(v.DiffuseRange[2 * n], 0.1f - 1e-6f);
+    EXPECT_LE(v.DiffuseRange[2 * n + 1], 0.9f + 1e-6f);
   }
-  EXPECT_FLOAT_EQ(v.Specular[0], 0.0f);
-  EXPECT_FLOAT_EQ(v.Specular[1], 1.0f);
+  EXPECT_FLOAT_EQ(v.SpecularRange[0], 0.0f);
+  EXPECT_FLOAT_EQ(v.SpecularRange[1], 1.0f);
 
   // the other way round: diffuse per triangle, specular per point; the root spans each array's
   // whole range, and no cell reaches outside it
@@ -858,17 +858,17 @@ TEST(MultiscaleOctreeBuilder, MaterialFromArrays)
   builder->SetInputData(blob2);
   builder->Update();
   ASSERT_TRUE(builder->GetOutput()->GetView(v));
-  EXPECT_FLOAT_EQ(v.Diffuse[0], 0.25f);
-  EXPECT_FLOAT_EQ(v.Diffuse[1], 0.75f);
-  EXPECT_FLOAT_EQ(v.Specular[0], 0.1f);
-  EXPECT_FLOAT_EQ(v.Specular[1], 0.4f);
+  EXPECT_FLOAT_EQ(v.DiffuseRange[0], 0.25f);
+  EXPECT_FLOAT_EQ(v.DiffuseRange[1], 0.75f);
+  EXPECT_FLOAT_EQ(v.SpecularRange[0], 0.1f);
+  EXPECT_FLOAT_EQ(v.SpecularRange[1], 0.4f);
   for (int64_t n = 0; n < v.NumberOfNodes; ++n)
   {
-    EXPECT_LE(v.Diffuse[2 * n], v.Diffuse[2 * n + 1]) << n;
-    EXPECT_GE(v.Diffuse[2 * n], 0.25f - 1e-6f) << n;
-    EXPECT_LE(v.Diffuse[2 * n + 1], 0.75f + 1e-6f) << n;
-    EXPECT_GE(v.Specular[2 * n], 0.1f - 1e-6f) << n;
-    EXPECT_LE(v.Specular[2 * n + 1], 0.4f + 1e-6f) << n;
+    EXPECT_LE(v.DiffuseRange[2 * n], v.DiffuseRange[2 * n + 1]) << n;
+    EXPECT_GE(v.DiffuseRange[2 * n], 0.25f - 1e-6f) << n;
+    EXPECT_LE(v.DiffuseRange[2 * n + 1], 0.75f + 1e-6f) << n;
+    EXPECT_GE(v.SpecularRange[2 * n], 0.1f - 1e-6f) << n;
+    EXPECT_LE(v.SpecularRange[2 * n + 1], 0.4f + 1e-6f) << n;
   }
 }
 
