@@ -14,9 +14,11 @@ vtkPLYFileCheck::vtkPLYFileCheck()
   : FileName(nullptr)
   , ReaderLimits(true)
   , ErrorMessage(nullptr)
+  , WarningMessage(nullptr)
   , NumberOfVertices(0)
   , NumberOfFaces(0)
   , MaxFaceSize(0)
+  , NumberOfShortFaces(0)
   , Format(FORMAT_ASCII)
 {
 }
@@ -26,6 +28,7 @@ vtkPLYFileCheck::~vtkPLYFileCheck()
 {
   this->SetFileName(nullptr);
   this->SetErrorMessage(nullptr);
+  this->SetWarningMessage(nullptr);
 }
 
 //------------------------------------------------------------------------------
@@ -38,8 +41,14 @@ bool vtkPLYFileCheck::Check()
   this->NumberOfVertices = static_cast<vtkIdType>(summary.NumberOfVertices);
   this->NumberOfFaces = static_cast<vtkIdType>(summary.NumberOfFaces);
   this->MaxFaceSize = static_cast<vtkIdType>(summary.MaxFaceSize);
+  this->NumberOfShortFaces = static_cast<vtkIdType>(summary.NumberOfShortFaces);
   this->Format = static_cast<int>(summary.Format);
   this->SetErrorMessage(ok ? nullptr : why.c_str());
+  this->SetWarningMessage(summary.Warning.empty() ? nullptr : summary.Warning.c_str());
+  if (!summary.Warning.empty())
+  {
+    vtkWarningMacro(<< this->FileName << ": " << summary.Warning);
+  }
   return ok;
 }
 
@@ -62,8 +71,10 @@ void vtkPLYFileCheck::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "ReaderLimits: " << (this->ReaderLimits ? "On" : "Off") << "\n";
   os << indent << "ErrorMessage: " << this->GetErrorMessage() << "\n";
+  os << indent << "WarningMessage: " << this->GetWarningMessage() << "\n";
   os << indent << "NumberOfVertices: " << this->NumberOfVertices << "\n";
   os << indent << "NumberOfFaces: " << this->NumberOfFaces << "\n";
   os << indent << "MaxFaceSize: " << this->MaxFaceSize << "\n";
+  os << indent << "NumberOfShortFaces: " << this->NumberOfShortFaces << "\n";
   os << indent << "Format: " << this->GetFormatAsString() << "\n";
 }

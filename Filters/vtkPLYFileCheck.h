@@ -24,6 +24,10 @@
  * reader cannot take: `face` before `vertex` or another element between them, faces of more
  * than 255 vertices, lines longer than 4000 bytes, and "vertex_index" inside a header word.
  *
+ * Faces of fewer than 3 vertex indices are valid PLY and pass, with a warning
+ * (GetWarningMessage(), also sent as a VTK warning): vtkPLYReader reads them as polygons of 0, 1
+ * or 2 points, on which vtkPolyDataNormals crashes, so a program drops them before such filters.
+ *
  * @warning The check does not look at the values: NaN or infinite coordinates pass (the
  * octree builder rejects them with an error).
  *
@@ -65,21 +69,32 @@ public:
 
   /**
    * Checks FileName. Returns true when the file is sound (and, with ReaderLimits, when
-   * vtkPLYReader can read it); otherwise false, with the reason in GetErrorMessage(). Reads the
-   * file every time it is called.
+   * vtkPLYReader can read it); otherwise false, with the reason in GetErrorMessage(). A sound
+   * file with faces of fewer than 3 vertex indices passes with a warning (GetWarningMessage(),
+   * also sent with vtkWarningMacro). Reads the file every time it is called.
    */
   bool Check();
 
   /// Why the last Check() failed, in one line; "" after a success or before any check.
   const char* GetErrorMessage() const { return this->ErrorMessage ? this->ErrorMessage : ""; }
 
+  /**
+   * What a consumer of the last checked file must know although the check passed, in one line:
+   * how many faces have fewer than 3 vertex indices and where the first one is (they must be
+   * dropped before vtkPolyDataNormals and the like). "" when there is nothing to say, after a
+   * failure, or before any check.
+   */
+  const char* GetWarningMessage() const { return this->WarningMessage ? this->WarningMessage : ""; }
+
   ///@{
   /// What the last Check() read: the counts of elements `vertex` and `face` (0 when there is
-  /// none), the most vertices in one face, and the format (FORMAT_ASCII, ...). Meaningful after
-  /// a successful check.
+  /// none), the most vertices in one face, the faces of fewer than 3 vertices (see
+  /// GetWarningMessage()), and the format (FORMAT_ASCII, ...). Meaningful after a successful
+  /// check.
   vtkGetMacro(NumberOfVertices, vtkIdType);
   vtkGetMacro(NumberOfFaces, vtkIdType);
   vtkGetMacro(MaxFaceSize, vtkIdType);
+  vtkGetMacro(NumberOfShortFaces, vtkIdType);
   vtkGetMacro(Format, int);
   const char* GetFormatAsString() const;
   ///@}
@@ -95,13 +110,16 @@ protected:
   ~vtkPLYFileCheck() override;
 
   vtkSetStringMacro(ErrorMessage);
+  vtkSetStringMacro(WarningMessage);
 
   char* FileName;
   bool ReaderLimits;
   char* ErrorMessage;
+  char* WarningMessage;
   vtkIdType NumberOfVertices;
   vtkIdType NumberOfFaces;
   vtkIdType MaxFaceSize;
+  vtkIdType NumberOfShortFaces;
   int Format;
 
 private:

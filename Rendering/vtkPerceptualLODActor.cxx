@@ -2,6 +2,7 @@
 #include "vtkPerceptualLODActor.h"
 
 #include "vtkAlgorithmOutput.h"
+#include "vtkCallbackCommand.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkMath.h"
@@ -34,16 +35,23 @@ vtkPerceptualLODActor::vtkPerceptualLODActor()
   this->Superclass::SetMapper(this->LODMapper);
   this->Device = vtkActor::New();
   this->DeviceMatrix = vtkMatrix4x4::New();
+  this->OnRendererDeleted = vtkCallbackCommand::New();
+  this->OnRendererDeleted->SetCallback(&vtkPerceptualLODActor::RendererDeleted);
+  this->OnRendererDeleted->SetClientData(this);
   vtkMath::UninitializeBounds(this->ModelBounds);
 }
 
 //------------------------------------------------------------------------------
 vtkPerceptualLODActor::~vtkPerceptualLODActor()
 {
+  // every renderer still here is alive: a deleted one has taken its entry away
   for (auto& entry : this->Bindings)
   {
-    entry.second->Delete();
+    entry.second.Renderer->RemoveObserver(entry.second.DeleteObserver);
+    entry.second.Binding->Delete();
   }
+  this->Bindings.clear();
+  this->OnRendererDeleted->Delete();
   this->Superclass::SetMapper(nullptr);
   this->Device->Delete();
   this->DeviceMatrix->Delete();
@@ -224,14 +232,37 @@ vtkPerceptualLODRenderBinding* vtkPerceptualLODActor::MakeBinding(vtkRenderer* r
   {
     return nullptr;
   }
-  vtkPerceptualLODRenderBinding*& binding = this->Bindings[renderer];
-  if (!binding)
+  RendererBinding& entry = this->Bindings[renderer];
+  if (!entry.Binding)
   {
-    binding = vtkPerceptualLODRenderBinding::New();
-    binding->EnabledOff(); // no observer: the actor pushes while it renders
-    binding->SetSelector(this->Selector);
+    entry.Binding = vtkPerceptualLODRenderBinding::New();
+    entry.Binding->EnabledOff(); // no observer: the actor pushes while it renders
+    entry.Binding->SetSelector(this->Selector);
+    // the binding goes with the renderer: no stale entry, none found again by a new renderer
+    // at the same address
+    entry.Renderer = renderer;
+    entry.DeleteObserver = renderer->AddObserver(vtkCommand::DeleteEvent, this->OnRendererDeleted);
   }
-  return binding;
+  return entry.Binding;
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::RendererDeleted(vtkObject* caller, unsigned long, void* client, void*)
+{
+  auto* self = static_cast<vtkPerceptualLODActor*>(client);
+  // the renderer is whole while its DeleteEvent runs (before its destructor)
+  auto it = self->Bindings.find(vtkRenderer::SafeDownCast(caller));
+  if (it != self->Bindings.end())
+  {
+    it->second.Binding->Delete();
+    self->Bindings.erase(it);
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkPerceptualLODActor::GetNumberOfBindings()
+{
+  return static_cast<int>(this->Bindings.size());
 }
 
 //------------------------------------------------------------------------------
@@ -254,7 +285,7 @@ void vtkPerceptualLODActor::SetTargetFrameTime(double seconds)
 vtkPerceptualLODRenderBinding* vtkPerceptualLODActor::GetBinding(vtkRenderer* renderer)
 {
   auto it = this->Bindings.find(renderer);
-  return it == this->Bindings.end() ? nullptr : it->second;
+  return it == this->Bindings.end() ? nullptr : it->second.Binding;
 }
 
 //------------------------------------------------------------------------------

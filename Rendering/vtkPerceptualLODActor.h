@@ -50,6 +50,7 @@
 #include <memory> // for the per-renderer state
 
 class vtkAlgorithmOutput;
+class vtkCallbackCommand;
 class vtkMatrix4x4;
 class vtkDataObject;
 class vtkMultiscaleOctreeBuilder;
@@ -94,7 +95,15 @@ public:
   ///@}
 
   /// The binding that feeds the selector for `renderer` (null before it first rendered there).
+  /// It lives as long as the renderer (see GetNumberOfBindings()).
   vtkPerceptualLODRenderBinding* GetBinding(vtkRenderer* renderer);
+
+  /**
+   * How many renderers the actor keeps a binding (a motion history) for: those it has rendered
+   * in, or made a binding for, that still exist. A renderer's binding goes when the renderer is
+   * deleted (the actor observes its DeleteEvent and never holds it).
+   */
+  int GetNumberOfBindings();
 
   /**
    * The binding for `renderer`, made now if the actor has not rendered there yet (as its first
@@ -132,6 +141,8 @@ protected:
   void Connect(vtkAlgorithmOutput* input);
   /// Feeds the selector for `renderer` (its own binding, made on first use).
   void Feed(vtkViewport* viewport);
+  /// DeleteEvent of a renderer with a binding: drops the binding.
+  static void RendererDeleted(vtkObject* caller, unsigned long, void* client, void*);
 
   vtkTrivialProducer* Producer = nullptr;
   vtkActor* Device = nullptr; // the backend's actor (vtkOpenGLActor), as in vtkLODActor
@@ -144,8 +155,16 @@ protected:
   double TargetFrameTime = 0;
   double ModelBounds[6];
   vtkMTimeType ModelBoundsTime = 0;
-  /// One binding per renderer (by address): its motion history. Never holds the renderer.
-  std::map<const void*, vtkPerceptualLODRenderBinding*> Bindings;
+  /// One binding per renderer (by address): its motion history, and the tag of the observer of
+  /// the renderer's DeleteEvent that drops it. Never holds the renderer.
+  struct RendererBinding
+  {
+    vtkPerceptualLODRenderBinding* Binding = nullptr;
+    vtkRenderer* Renderer = nullptr;
+    unsigned long DeleteObserver = 0;
+  };
+  std::map<const void*, RendererBinding> Bindings;
+  vtkCallbackCommand* OnRendererDeleted = nullptr;
 
 private:
   vtkPerceptualLODActor(const vtkPerceptualLODActor&) = delete;

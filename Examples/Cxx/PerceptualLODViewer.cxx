@@ -20,6 +20,9 @@
 #include "vtkActor.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
 #include "vtkImageAppend.h"
 #include "vtkImageData.h"
 #include "vtkInteractorStyleTrackballCamera.h"
@@ -207,6 +210,68 @@ double PSNR(vtkImageData* a, vtkImageData* b)
   return mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 99.0;
 }
 
+/**
+ * The model without its polygons of fewer than three points, which vtkPolyDataNormals crashes
+ * on (a PLY face of one or two indices is valid PLY, and OBJ and VTP files may hold such cells
+ * too); their cell data go with them. The model itself when it has none; otherwise a warning on
+ * stderr says how many were dropped and which was the first.
+ */
+vtkSmartPointer<vtkPolyData> DropShortPolys(vtkPolyData* model, const std::string& file)
+{
+  vtkCellArray* polys = model->GetPolys();
+  vtkIdType dropped = 0, first = -1, index = 0, n;
+  const vtkIdType* ids;
+  auto it = vtk::TakeSmartPointer(polys->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++index)
+  {
+    it->GetCurrentCell(n, ids);
+    if (n < 3)
+    {
+      first = dropped++ == 0 ? index : first;
+    }
+  }
+  if (dropped == 0)
+  {
+    return model;
+  }
+  // cells are numbered verts, lines, polys, strips: the cell data follow that order
+  const vtkIdType base = model->GetNumberOfVerts() + model->GetNumberOfLines();
+  const vtkIdType cells = model->GetNumberOfCells();
+  vtkNew<vtkCellArray> kept;
+  kept->AllocateEstimate(polys->GetNumberOfCells() - dropped, 3);
+  vtkNew<vtkCellData> cellData;
+  cellData->CopyAllocate(model->GetCellData(), cells - dropped);
+  vtkIdType next = 0;
+  for (vtkIdType c = 0; c < base; ++c)
+  {
+    cellData->CopyData(model->GetCellData(), c, next++);
+  }
+  index = base;
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++index)
+  {
+    it->GetCurrentCell(n, ids);
+    if (n >= 3)
+    {
+      kept->InsertNextCell(n, ids);
+      cellData->CopyData(model->GetCellData(), index, next++);
+    }
+  }
+  for (vtkIdType c = index; c < cells; ++c)
+  {
+    cellData->CopyData(model->GetCellData(), c, next++);
+  }
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(model);
+  out->SetPolys(kept);
+  out->GetCellData()->ShallowCopy(cellData);
+  std::fprintf(stderr,
+    "warning: %s: dropped %lld of %lld polygons with fewer than 3 points (the first: polygon "
+    "%lld), which are not surfaces and crash vtkPolyDataNormals\n",
+    file.empty() ? "the model" : file.c_str(), static_cast<long long>(dropped),
+    static_cast<long long>(polys->GetNumberOfCells()), static_cast<long long>(first));
+  return out;
+}
+
 void WritePNG(vtkImageData* image, const std::string& file)
 {
   vtkNew<vtkPNGWriter> writer;
@@ -283,6 +348,8 @@ int main(int argc, char* argv[])
       stderr, "cannot read a model from '%s' (PLY, STL, OBJ, VTP or .plod)\n", file.c_str());
     return 1;
   }
+  // the builder skips such polygons, but the full-resolution reference's normals would not
+  model = DropShortPolys(model, file);
 
   Viewer v;
   v.Builder->SetInputData(model);

@@ -376,11 +376,45 @@ public:
       return false;
     }
     this->Summary->HeaderBytes = this->In.Offset();
-    return this->Summary->Format == PLYFormat::ASCII ? this->CheckASCIIBody()
-                                                     : this->CheckBinaryBody();
+    const bool ok =
+      this->Summary->Format == PLYFormat::ASCII ? this->CheckASCIIBody() : this->CheckBinaryBody();
+    if (ok && this->Summary->NumberOfShortFaces > 0)
+    {
+      this->Summary->Warning = std::to_string(this->Summary->NumberOfShortFaces) + " of " +
+        std::to_string(this->Summary->NumberOfFaces) +
+        " faces have fewer than 3 vertex indices (the first: " + this->FirstShortFaceText +
+        "); they are not polygons and must be dropped (vtkPolyDataNormals crashes on them)";
+    }
+    if (ok)
+    {
+      this->WarnOfIgnoredElements();
+    }
+    return ok;
   }
 
 private:
+  /// Elements that describe a surface VTK's reader drops (it reads `vertex` and `face` only):
+  /// triangle strips. Without faces, the points would be taken for a point cloud. (A range
+  /// scan's `range_grid` is left out: such scans are read as the point clouds they are.)
+  void WarnOfIgnoredElements()
+  {
+    for (const PLYElement& e : this->Summary->Elements)
+    {
+      if (e.Count == 0 || e.Name != "tristrips")
+      {
+        continue;
+      }
+      std::string& w = this->Summary->Warning;
+      w += (w.empty() ? "" : "; ") + std::string("element '") + e.Name + "' (" +
+        std::to_string(e.Count) + " rows) describes a surface that is not read (only 'vertex' " +
+        "and 'face' are)";
+      if (this->Summary->NumberOfFaces == 0)
+      {
+        w += ": without faces the points are taken for a point cloud; convert it to faces";
+      }
+    }
+  }
+
   bool Fail(const std::string& message)
   {
     *this->Why = message;
@@ -813,6 +847,17 @@ private:
       return true;
     }
     this->Summary->MaxFaceSize = std::max(this->Summary->MaxFaceSize, count);
+    if (count < 3 && row != this->LastShortFace)
+    {
+      // valid PLY, not a polygon: counted for the warning, the first one described
+      this->LastShortFace = row;
+      if (this->Summary->NumberOfShortFaces++ == 0)
+      {
+        this->Summary->FirstShortFace = row;
+        this->FirstShortFaceText = Row(e, row) + " with " + std::to_string(count) +
+          (count == 1 ? " index" : " indices") + where;
+      }
+    }
     if (this->Limits.MaxFaceSize > 0 && count > this->Limits.MaxFaceSize)
     {
       return this->Fail(Row(e, row) + " list " + Quote(p.Name) + ": a face of " +
@@ -1154,6 +1199,8 @@ private:
   int64_t LineStart = 0; ///< ASCII body: offset of the current line's first byte
   std::string Word;
   bool EndsWithoutNewline = false; ///< ASCII body: the last row reaches the end of the file
+  int64_t LastShortFace = -1;      ///< the last `face` row counted as short (one per row)
+  std::string FirstShortFaceText;  ///< the first short face: row, list, size and place
 };
 
 } // namespace

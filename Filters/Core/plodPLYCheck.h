@@ -37,6 +37,10 @@
  *      is allowed too.
  *    Bytes after the last row are allowed (summary's TrailingBytes; for ASCII, whitespace does
  *    not count).
+ * 5. Warnings (the check passes; summary's Warning says it): rows of `face` with fewer than 3
+ *    vertex indices. The format allows them and vtkPLYReader reads them as polygons of 0, 1 or 2
+ *    points, but they bound no surface, and filters that expect polygons (vtkPolyDataNormals)
+ *    crash on them: consumers drop them (summary's NumberOfShortFaces and FirstShortFace).
  *
  * Reader limits (PLYReaderLimits, optional): what a particular reader cannot take although
  * the format allows it. VTKPLYReaderLimits() gives those of vtkPLYReader in VTK 9.1 (Turk's
@@ -104,9 +108,18 @@ struct PLYSummary
   int64_t NumberOfVertices = 0;     ///< count of element `vertex`
   int64_t NumberOfFaces = 0;        ///< count of element `face` (0 when there is none)
   int64_t MaxFaceSize = 0;          ///< longest vertex index list in `face`
+  /// Rows of `face` with fewer than 3 vertex indices (valid PLY, but not polygons), and the
+  /// first of them (-1 when there is none).
+  int64_t NumberOfShortFaces = 0;
+  int64_t FirstShortFace = -1;
   int64_t FileBytes = 0;
   int64_t HeaderBytes = 0;   ///< offset of the body
   int64_t TrailingBytes = 0; ///< bytes after the last row (ASCII: non-whitespace bytes only)
+  /// After a passing check, what a reader takes but a consumer must know, in one line: faces of
+  /// fewer than 3 vertex indices (how many, and the first one's row, size and place), and
+  /// a `tristrips` element (a surface a reader of `vertex` and `face` drops). "" when there is
+  /// nothing to say.
+  std::string Warning;
 };
 
 /// What a particular reader cannot take although the format allows it. Zero or false: no limit.
@@ -141,7 +154,8 @@ constexpr int64_t MaxPLYElementCount = 2147483647;
 /**
  * Checks that the file at `path` is a well-formed PLY file whose body matches its header (see
  * the file's documentation) and that a reader with the given limits can take. Returns true when
- * it is; otherwise false with the reason in `why` (one line). `why` and `summary` may be null.
+ * it is (with summary's Warning set when faces of fewer than 3 indices must be dropped);
+ * otherwise false with the reason in `why` (one line). `why` and `summary` may be null.
  * Never throws; memory stays within a small buffer plus the header's description.
  */
 bool CheckPLYFile(const std::string& path, std::string* why, PLYSummary* summary = nullptr,

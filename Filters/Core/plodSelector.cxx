@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 
@@ -151,12 +152,17 @@ int DistanceLevel(double rootEdge, int finestLevel, double pixelThreshold, doubl
 
 bool ValidateSelectionInput(const SelectionInput& in, std::string* why)
 {
-  auto fail = [why](const char* text) {
+  auto fail = [why](const std::string& text) {
     if (why)
     {
       *why = text;
     }
     return false;
+  };
+  auto number = [](double x) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", x);
+    return std::string(text);
   };
   if (!Finite(in.Eye, 3))
   {
@@ -184,11 +190,24 @@ bool ValidateSelectionInput(const SelectionInput& in, std::string* why)
   {
     return fail("material values must be finite (specular power >= 0)");
   }
-  for (const SelectorLight& l : in.Lights)
+  // reflectances are fractions of the light: a negative one would make a brightness change
+  // negative, and the criterion would accept what it must refine
+  if (!(in.Diffuse >= 0 && in.Diffuse <= 1) || !(in.Specular >= 0 && in.Specular <= 1))
   {
+    return fail("the diffuse and specular reflectances must be in [0, 1] (got diffuse " +
+      number(in.Diffuse) + ", specular " + number(in.Specular) + ")");
+  }
+  for (size_t i = 0; i < in.Lights.size(); ++i)
+  {
+    const SelectorLight& l = in.Lights[i];
     if (!Finite(l.Position, 3) || !std::isfinite(l.Diffuse) || !std::isfinite(l.Specular))
     {
       return fail("a light has a non-finite position, direction or intensity");
+    }
+    if (l.Diffuse < 0 || l.Specular < 0)
+    {
+      return fail("light " + std::to_string(i) + " has a negative intensity (diffuse " +
+        number(l.Diffuse) + ", specular " + number(l.Specular) + "); intensities must be >= 0");
     }
   }
   if (!Finite(&in.MotionA[0][0], 9) || !Finite(in.MotionB, 3))

@@ -403,8 +403,9 @@ bool ChengAccepts(double cosT, double sinT, double rate, double D);
 int DistanceLevel(double rootEdge, int finestLevel, double pixelThreshold, double viewAngle,
   double distance, double pixels);
 
-/// Checks an input: finite numbers, positive scales and PSEC factor, unit-ish vectors, a minimum
-/// level in [0, MaxFinestLevel]. Explains in `why`.
+/// Checks an input: finite numbers, positive scales and PSEC factor, unit-ish vectors, material
+/// reflectances in [0, 1], light intensities >= 0, a minimum level in [0, MaxFinestLevel].
+/// Explains in `why` (one line, naming the values refused).
 bool ValidateSelectionInput(const SelectionInput& in, std::string* why);
 
 /**

@@ -2,7 +2,8 @@
 // Tests of plod::CheckPLYFile: valid files in every encoding pass with their counts; each corrupt
 // variant fails with a message that names its problem; valid files beyond VTK 9.1's reader fail
 // only under its limits; every cut of a body, random corruption and huge counts end in a clean
-// answer; the Stanford files pass when ../shared/data is there.
+// answer; faces of fewer than 3 indices pass with a warning; the Stanford files pass when
+// ../shared/data is there.
 #include "plodPLYCheck.h"
 #include "plodPLYSamples.h"
 
@@ -194,7 +195,94 @@ TEST_F(PLYCheck, NullOutputsAreAllowed)
   EXPECT_FALSE(plod::CheckPLYFile("", nullptr));
 }
 
+TEST_F(PLYCheck, FacesOfFewerThanThreeIndicesPassWithAWarning)
+{
+  // issue 24: faces of 0, 1 or 2 indices are valid PLY, and vtkPLYReader reads them, but
+  // vtkPolyDataNormals crashes on them. The check passes (the file is sound) and says how many
+  // there are and where the first is, so that a program drops them.
+  for (plodtest::PLYEncoding enc :
+    { plodtest::PLYEncoding::ASCII, plodtest::PLYEncoding::Little, plodtest::PLYEncoding::Big })
+  {
+    plodtest::TetraPLY t;
+    t.Encoding = enc;
+    t.Faces = { { 0, 1, 2 }, { 0, 3, 1 }, { 2, 3 }, { 0, 2, 3 }, { 1 }, {}, { 1, 3, 2 } };
+    t.DeclaredFaces = 7;
+    const std::string path = Write("short_faces.ply", t.Bytes());
+    for (const plod::PLYReaderLimits& limits :
+      { plod::PLYReaderLimits(), plod::VTKPLYReaderLimits() })
+    {
+      SCOPED_TRACE(static_cast<int>(enc));
+      std::string why = "not cleared";
+      plod::PLYSummary s;
+      ASSERT_TRUE(plod::CheckPLYFile(path, &why, &s, limits)) << why;
+      EXPECT_EQ(why, "");
+      EXPECT_EQ(s.NumberOfFaces, 7);
+      EXPECT_EQ(s.NumberOfShortFaces, 3) << "rows 2, 4 and 5 (an empty face counts)";
+      EXPECT_EQ(s.FirstShortFace, 2);
+      EXPECT_EQ(s.MaxFaceSize, 3);
+      // face rows 0 and 1 take 13 bytes each in binary; row 2 is line 9 + 4 + 3 in ASCII
+      const std::string where = enc == plodtest::PLYEncoding::ASCII
+        ? "(line 16)"
+        : "(byte offset " + std::to_string(s.HeaderBytes + 48 + 26) + ")";
+      EXPECT_EQ(s.Warning,
+        "3 of 7 faces have fewer than 3 vertex indices (the first: element 'face' row 2 with 2 "
+        "indices " +
+          where +
+          "); they are not polygons and must be dropped (vtkPolyDataNormals crashes on them)");
+    }
+  }
+  // one short face: "1 index"
+  plodtest::TetraPLY one;
+  one.Faces[3] = { 1 };
+  plod::PLYSummary s;
+  ASSERT_TRUE(plod::CheckPLYFile(Write("one_short_face.ply", one.Bytes()), nullptr, &s));
+  EXPECT_EQ(s.NumberOfShortFaces, 1);
+  EXPECT_EQ(s.FirstShortFace, 3);
+  EXPECT_NE(s.Warning.find("1 of 4 faces have fewer than 3 vertex indices (the first: element "
+                           "'face' row 3 with 1 index (line 17))"),
+    std::string::npos)
+    << s.Warning;
+  // no short faces in sound files or in lists of other elements (range grids, strips, whose
+  // own warning is SurfaceElementsThatAreNotReadAreNamed's), and no warning after a failure
+  for (const char* name : { "tetra_ascii", "range_scan_binary_le", "strips_quads_ascii" })
+  {
+    ASSERT_TRUE(plod::CheckPLYFile(Find(name).Path, nullptr, &s)) << name;
+    EXPECT_EQ(s.NumberOfShortFaces, 0) << name;
+    EXPECT_EQ(s.FirstShortFace, -1) << name;
+    EXPECT_EQ(s.Warning.find("fewer than 3"), std::string::npos) << name;
+  }
+  one.Faces[1] = { 0, 3 };
+  one.Faces[2] = { 0, 9, 2 }; // a short face, then an index out of range
+  std::string why;
+  EXPECT_FALSE(plod::CheckPLYFile(Write("short_then_bad.ply", one.Bytes()), &why, &s));
+  EXPECT_NE(why.find("vertex index 9 is not in [0, 4)"), std::string::npos) << why;
+  EXPECT_EQ(s.Warning, "") << "a failed check warns of nothing";
+}
+
 // ---- corrupt files ----------------------------------------------------------------------------
+
+// Triangle strips are a surface VTK's reader drops: said, and with no faces beside them the
+// points would be taken for a point cloud (issue 24). A range scan's grid is not warned of.
+TEST_F(PLYCheck, SurfaceElementsThatAreNotReadAreNamed)
+{
+  plod::PLYSummary q;
+  ASSERT_TRUE(plod::CheckPLYFile(Find("strips_quads_ascii").Path, nullptr, &q));
+  EXPECT_EQ(q.Warning,
+    "element 'tristrips' (1 rows) describes a surface that is not read (only 'vertex' and 'face' "
+    "are)");
+  const std::string onlyStrips = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                                 "property float y\nproperty float z\nelement tristrips 1\n"
+                                 "property list int int vertex_indices\nend_header\n"
+                                 "0 0 0\n1 0 0\n0 1 0\n1 1 0\n4 0 1 2 3\n";
+  plod::PLYSummary o;
+  ASSERT_TRUE(plod::CheckPLYFile(Write("only_strips.ply", onlyStrips), nullptr, &o));
+  EXPECT_NE(
+    o.Warning.find("without faces the points are taken for a point cloud"), std::string::npos)
+    << o.Warning;
+  plod::PLYSummary r;
+  ASSERT_TRUE(plod::CheckPLYFile(Find("range_scan_ascii").Path, nullptr, &r));
+  EXPECT_EQ(r.Warning, "") << "a range scan is read as the point cloud it is";
+}
 
 TEST_F(PLYCheck, CorruptFilesFailWithAMessageNamingTheProblem)
 {

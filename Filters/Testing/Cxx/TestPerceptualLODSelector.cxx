@@ -899,6 +899,123 @@ TEST(PerceptualLODSelector, BadInputKeepsThePreviousCut)
   expectKept("NaN plane");
 }
 
+// Issue 24: a light of negative intensity or a reflectance below 0 made a brightness change
+// negative, and the selector accepted cells it must refine; both are refused like non-finite
+// values, with a message naming the values, and the previous cut stays.
+TEST(PerceptualLODSelector, NegativeLightsAndReflectancesOutsideZeroOneAreRefused)
+{
+  Pipeline p(plodtest::MakeBlob(6, 40, 0.3), 5);
+  const double focus[3] = { 0, 0, 0 }, eye[3] = { 0.5, 0.5, 3 };
+  p.Look(eye, focus);
+  p.Selector->AddLight(false, 0.3, 0.6, 1.0, 0.8, 0.5);
+  const auto good = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+  auto expectRefused = [&](const std::string& message) {
+    vtkNew<plodtest::ErrorRecorder> errors;
+    const unsigned long tag = p.Selector->AddObserver(vtkCommand::ErrorEvent, errors);
+    const auto after = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+    p.Selector->RemoveObserver(tag);
+    ASSERT_EQ(errors->Errors.size(), 1u) << message;
+    EXPECT_NE(errors->Errors[0].find("Invalid input: "), std::string::npos) << errors->Errors[0];
+    EXPECT_NE(errors->Errors[0].find(message), std::string::npos) << errors->Errors[0];
+    EXPECT_NE(errors->Errors[0].find("the previous cut is kept"), std::string::npos);
+    EXPECT_EQ(after, good) << message;
+    EXPECT_TRUE(p.Cut()->HasValidCut()) << message;
+  };
+  p.Selector->SetDiffuseReflectance(-0.5);
+  expectRefused(
+    "the diffuse and specular reflectances must be in [0, 1] (got diffuse -0.5, specular 0.3)");
+  p.Selector->SetDiffuseReflectance(1.5);
+  expectRefused("(got diffuse 1.5, specular 0.3)");
+  p.Selector->SetDiffuseReflectance(1);
+  p.Selector->SetSpecularReflectance(-1e-9);
+  expectRefused("(got diffuse 1, specular -1e-09)");
+  p.Selector->SetSpecularReflectance(0.3);
+  p.Selector->SetLight(0, false, 0.3, 0.6, 1.0, -0.8, 0.5);
+  expectRefused("light 0 has a negative intensity (diffuse -0.8, specular 0.5); intensities must "
+                "be >= 0");
+  p.Selector->SetLight(0, false, 0.3, 0.6, 1.0, 0.8, 0.5);
+  p.Selector->AddLight(true, 0, 0, 5, 1, -2);
+  expectRefused("light 1 has a negative intensity (diffuse 1, specular -2)");
+
+  // the bounds themselves are valid: reflectances 0 and 1, lights of intensity 0 (or above 1)
+  p.Selector->SetLight(1, true, 0, 0, 5, 0, 0);
+  for (const double m : { 0.0, 1.0 })
+  {
+    p.Selector->SetDiffuseReflectance(m);
+    p.Selector->SetSpecularReflectance(1 - m);
+    vtkNew<plodtest::ErrorRecorder> errors;
+    const unsigned long tag = p.Selector->AddObserver(vtkCommand::ErrorEvent, errors);
+    EXPECT_TRUE(p.Cut()->HasValidCut());
+    p.Selector->RemoveObserver(tag);
+    EXPECT_TRUE(errors->Errors.empty()) << errors->Errors[0];
+  }
+
+  // the kernel says the same to a caller without the VTK class
+  plod::SelectionInput in = Viewer(5, 0.5, 0.5);
+  in.Lights.push_back({ false, { 0, 0, 1 }, 10, 0 });
+  std::string why;
+  EXPECT_TRUE(plod::ValidateSelectionInput(in, &why)) << why;
+  in.Lights[0].Diffuse = -1;
+  EXPECT_FALSE(plod::ValidateSelectionInput(in, &why));
+  EXPECT_NE(why.find("light 0 has a negative intensity"), std::string::npos) << why;
+  in.Lights[0].Diffuse = 1;
+  in.Specular = -0.25;
+  EXPECT_FALSE(plod::ValidateSelectionInput(in, &why));
+  EXPECT_NE(why.find("specular -0.25"), std::string::npos) << why;
+
+  // before any valid frame there is no cut to keep: the output is empty, and empty is drawn
+  Pipeline fresh(p.Model, 5);
+  fresh.Look(eye, focus);
+  fresh.Selector->AddLight(false, 0, 0, 1, -1, 1);
+  vtkNew<plodtest::ErrorRecorder> errors;
+  fresh.Selector->AddObserver(vtkCommand::ErrorEvent, errors);
+  fresh.Patches->Update();
+  EXPECT_TRUE(errors->HasError("light 0 has a negative intensity"));
+  EXPECT_EQ(fresh.Selector->GetOutput()->GetNumberOfNodes(), 0);
+  EXPECT_EQ(fresh.Patches->GetNumberOfTriangles(), 0);
+}
+
+// Issue 24: a zero-size viewport (a hidden or collapsed window) gets its own message, with the
+// size, and blames nothing else (not the view angle).
+TEST(PerceptualLODSelector, ZeroSizeViewportIsNamedInItsMessage)
+{
+  Pipeline p(plodtest::MakeBlob(6, 40, 0.3), 5);
+  const double focus[3] = { 0, 0, 0 }, eye[3] = { 0.5, 0.5, 3 };
+  p.Look(eye, focus);
+  const auto good = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+  const int sizes[4][2] = { { 0, 100 }, { 640, 0 }, { 0, 0 }, { -5, 480 } };
+  for (const auto& size : sizes)
+  {
+    for (const bool parallel : { false, true })
+    {
+      p.Selector->SetParallelProjection(parallel);
+      p.Selector->SetViewportSize(size[0], size[1]);
+      vtkNew<plodtest::ErrorRecorder> errors;
+      const unsigned long tag = p.Selector->AddObserver(vtkCommand::ErrorEvent, errors);
+      const auto after = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+      p.Selector->RemoveObserver(tag);
+      ASSERT_EQ(errors->Errors.size(), 1u);
+      const std::string& e = errors->Errors[0];
+      EXPECT_NE(e.find("Invalid input: the viewport size is " + std::to_string(size[0]) + " x " +
+                  std::to_string(size[1]) + " pixels; width and height must be positive"),
+        std::string::npos)
+        << e;
+      EXPECT_EQ(e.find("view angle"), std::string::npos) << e;
+      EXPECT_EQ(e.find("screen distance"), std::string::npos) << e;
+      EXPECT_EQ(after, good);
+    }
+  }
+  // the camera's own problems keep their message
+  p.Selector->SetParallelProjection(false);
+  p.Selector->SetViewportSize(1920, 1080);
+  p.Selector->SetViewAngle(0);
+  vtkNew<plodtest::ErrorRecorder> errors;
+  p.Selector->AddObserver(vtkCommand::ErrorEvent, errors);
+  p.Cut();
+  EXPECT_TRUE(errors->HasError("the view angle must be in (0, 180) degrees"));
+  EXPECT_FALSE(errors->HasError("viewport"));
+}
+
 TEST(PerceptualLODSelector, ReExecutesOnlyOnChangeAndNeverRebuilds)
 {
   Pipeline p(plodtest::MakeBlob(7, 40, 0.3), 5);
