@@ -3,6 +3,7 @@
 
 #include "plodCut.h"
 #include "plodOctree.h"
+#include "plodOctreeFile.h"
 #include "plodOctreeSchema.h"
 
 #include "vtkFieldData.h"
@@ -97,6 +98,8 @@ void vtkMultiscaleOctree::Initialize()
   this->HasMaterialArrays = false;
   this->NumberOfBoundaryEdges = 0;
   this->NumberOfNonManifoldEdges = 0;
+  this->NumberOfMisorientedEdges = 0;
+  this->SourceFile = nullptr;
   this->Modified();
 }
 
@@ -114,6 +117,7 @@ void vtkMultiscaleOctree::ShallowCopy(vtkDataObject* src)
     this->HasMaterialArrays = o->HasMaterialArrays;
     this->NumberOfBoundaryEdges = o->NumberOfBoundaryEdges;
     this->NumberOfNonManifoldEdges = o->NumberOfNonManifoldEdges;
+    this->NumberOfMisorientedEdges = o->NumberOfMisorientedEdges;
     // the same arrays: the source's check holds for the copy
     this->CheckedKey = o->CheckedKey;
     this->CheckedValid = o->CheckedValid;
@@ -121,6 +125,7 @@ void vtkMultiscaleOctree::ShallowCopy(vtkDataObject* src)
     this->CheckedWhy = o->CheckedWhy;
     this->CheckedView = o->CheckedView;
     this->CheckedStamp = o->CheckedStamp;
+    this->SourceFile = o->SourceFile; // the same mapped bytes
   }
   this->Superclass::ShallowCopy(src);
   this->Modified();
@@ -140,6 +145,8 @@ void vtkMultiscaleOctree::DeepCopy(vtkDataObject* src)
     this->HasMaterialArrays = o->HasMaterialArrays;
     this->NumberOfBoundaryEdges = o->NumberOfBoundaryEdges;
     this->NumberOfNonManifoldEdges = o->NumberOfNonManifoldEdges;
+    this->NumberOfMisorientedEdges = o->NumberOfMisorientedEdges;
+    this->SourceFile = nullptr; // copied into memory
   }
   this->Superclass::DeepCopy(src);
   this->Modified();
@@ -440,9 +447,66 @@ bool vtkMultiscaleOctree::CheckConsistency(std::string* why)
 }
 
 //------------------------------------------------------------------------------
+struct vtkMultiscaleOctree::SourceFileState
+{
+  std::shared_ptr<const plod::FileIdentity> File;
+  bool WarnedReplaced = false;
+};
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctree::SetSourceFile(std::shared_ptr<const plod::FileIdentity> file)
+{
+  this->SourceFile = nullptr;
+  if (file)
+  {
+    this->SourceFile = std::make_shared<SourceFileState>();
+    this->SourceFile->File = std::move(file);
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultiscaleOctree::IsSourceFileIntact(std::string* why)
+{
+  if (!this->SourceFile)
+  {
+    return true;
+  }
+  std::string what;
+  switch (plod::CompareFileIdentity(*this->SourceFile->File, &what))
+  {
+    case plod::FileChange::Same:
+      return true;
+    case plod::FileChange::Replaced:
+    case plod::FileChange::Gone:
+      if (!this->SourceFile->WarnedReplaced)
+      {
+        this->SourceFile->WarnedReplaced = true;
+        vtkWarningMacro(<< "The octree file " << what
+                        << ": the octree goes on with the file it mapped; call Modified() on "
+                           "the reader to read the new one.");
+      }
+      return true;
+    case plod::FileChange::ChangedInPlace:
+      break;
+  }
+  if (why)
+  {
+    *why = "the octree file " + what +
+      ": its mapped pages can no longer be read safely; call Modified() on the reader to read "
+      "it again";
+  }
+  return false;
+}
+
+//------------------------------------------------------------------------------
 bool vtkMultiscaleOctree::GetCheckedView(
   plod::OctreeView& view, vtkMTimeType* time, std::string* why)
 {
+  if (!this->IsSourceFileIntact(why))
+  {
+    view = plod::OctreeView();
+    return false;
+  }
   const bool ok = this->CheckConsistency(why);
   if (time)
   {
@@ -615,6 +679,7 @@ void vtkMultiscaleOctree::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "HasMaterialArrays: " << (this->HasMaterialArrays ? "On" : "Off") << "\n";
   os << indent << "NumberOfBoundaryEdges: " << this->NumberOfBoundaryEdges << "\n";
   os << indent << "NumberOfNonManifoldEdges: " << this->NumberOfNonManifoldEdges << "\n";
+  os << indent << "NumberOfMisorientedEdges: " << this->NumberOfMisorientedEdges << "\n";
   os << indent << "NumberOfNodes: " << this->GetNumberOfNodes() << "\n";
   os << indent << "NumberOfSurfacePoints: " << this->GetNumberOfSurfacePoints() << "\n";
   os << indent << "NumberOfSurfaceTriangles: " << this->GetNumberOfSurfaceTriangles() << "\n";

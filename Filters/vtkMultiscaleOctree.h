@@ -65,6 +65,7 @@ namespace plod
 struct OctreeView;
 struct OctreeArrays;
 struct ArraySpec;
+struct FileIdentity;
 enum class ArrayGroup : uint8_t;
 enum class ArrayType : uint8_t;
 }
@@ -146,6 +147,17 @@ public:
   vtkSetMacro(NumberOfBoundaryEdges, vtkIdType);
   vtkGetMacro(NumberOfNonManifoldEdges, vtkIdType);
   vtkSetMacro(NumberOfNonManifoldEdges, vtkIdType);
+  ///@}
+
+  ///@{
+  /**
+   * Edges used by two triangles in the same direction: the two disagree on which side is the
+   * front, as in a mesh whose triangles are not consistently oriented (scans often arrive so).
+   * Set by the builder; the selector hides back faces by default only when this is 0 too, since
+   * a closed surface seen through such a triangle would show a see-through hole.
+   */
+  vtkGetMacro(NumberOfMisorientedEdges, vtkIdType);
+  vtkSetMacro(NumberOfMisorientedEdges, vtkIdType);
   ///@}
 
   /// Sets the root cube and the finest level together.
@@ -290,6 +302,18 @@ public:
    * is made again: caches derived from the arrays can follow it.
    */
   bool GetCheckedView(plod::OctreeView& view, vtkMTimeType* time, std::string* why);
+  /**
+   * The file whose mapped bytes the arrays hold (set by vtkMultiscaleOctreeReader), or null.
+   * GetCheckedView then compares it with the file on disk: rewritten in place, the octree is
+   * refused (its pages are no longer safe to read); replaced by another file (a rename over
+   * it), the mapped one is intact and used, with one warning (from the first octree that
+   * notices: the shallow copies share the file). Initialize() and DeepCopy() clear
+   * it; ShallowCopy() shares it.
+   */
+  void SetSourceFile(std::shared_ptr<const plod::FileIdentity> file);
+  /// True unless the source file (if any) was changed in place since it was mapped; `why`
+  /// says what changed.
+  bool IsSourceFileIntact(std::string* why);
   /// The field data that holds the arrays of `group` (node, cluster, or surface).
   vtkFieldData* GetFieldDataOf(plod::ArrayGroup group);
   /// A new, empty VTK array for values of `type` (vtkIdTypeArray for int64).
@@ -309,6 +333,7 @@ protected:
   bool HasMaterialArrays;
   vtkIdType NumberOfBoundaryEdges = 0;
   vtkIdType NumberOfNonManifoldEdges = 0;
+  vtkIdType NumberOfMisorientedEdges = 0;
   // IsConsistent's cache: the identity and modification times of the arrays it checked (not of
   // the cut arrays, which change every frame), copied by ShallowCopy with the arrays it covers
   struct CheckKey
@@ -342,6 +367,10 @@ protected:
   std::shared_ptr<const plod::OctreeView> CheckedView;
   vtkMTimeType CheckedStamp = 0;
 #ifndef __VTK_WRAP__
+  // the mapped file and whether its replacement was reported (shared by shallow copies, so that
+  // it is reported once)
+  struct SourceFileState;
+  std::shared_ptr<SourceFileState> SourceFile;
   /// Adds the schema's array `spec` with `tuples` tuples (contents undefined).
   void AddSchemaArray(const plod::ArraySpec& spec, vtkIdType tuples);
 #endif

@@ -9,6 +9,8 @@
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetAttributes.h"
+#include "vtkGenericCell.h"
+#include "vtkIdList.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiscaleOctree.h"
@@ -190,6 +192,89 @@ double vtkMultiscaleOctreeBuilder::GetEffectiveMemoryLimit()
 }
 
 //------------------------------------------------------------------------------
+vtkSmartPointer<vtkPolyData> vtkMultiscaleOctreeBuilder::TakeSurfaceCells(vtkPointSet* input)
+{
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  surface->SetPoints(input->GetPoints());
+  surface->GetPointData()->ShallowCopy(input->GetPointData());
+  vtkNew<vtkCellArray> polys, strips;
+  vtkNew<vtkIdList> kept, stripCells;
+  vtkNew<vtkIdList> ids;
+  vtkNew<vtkGenericCell> cell;
+  vtkIdType volume = 0, other = 0;
+  for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+  {
+    const int type = input->GetCellType(c);
+    input->GetCellPoints(c, ids);
+    if (type == VTK_TRIANGLE || type == VTK_QUAD || type == VTK_POLYGON)
+    {
+      polys->InsertNextCell(ids);
+      kept->InsertNextId(c);
+    }
+    else if (type == VTK_PIXEL && ids->GetNumberOfIds() == 4)
+    {
+      // a pixel's points are in raster order: as a polygon, 0 1 3 2
+      polys->InsertNextCell({ ids->GetId(0), ids->GetId(1), ids->GetId(3), ids->GetId(2) });
+      kept->InsertNextId(c);
+    }
+    else if (type == VTK_TRIANGLE_STRIP)
+    {
+      strips->InsertNextCell(ids);
+      stripCells->InsertNextId(c);
+    }
+    else if ((input->GetCell(c, cell), cell->GetCellDimension() == 3))
+    {
+      ++volume;
+    }
+    else
+    {
+      ++other;
+    }
+  }
+  surface->SetPolys(polys);
+  surface->SetStrips(strips);
+  // cell data in vtkPolyData's order: polygons, then strips
+  vtkCellData* in = input->GetCellData();
+  vtkCellData* out = surface->GetCellData();
+  out->CopyAllocate(in, kept->GetNumberOfIds() + stripCells->GetNumberOfIds());
+  vtkIdType next = 0;
+  for (vtkIdList* list : { kept.GetPointer(), stripCells.GetPointer() })
+  {
+    for (vtkIdType k = 0; k < list->GetNumberOfIds(); ++k)
+    {
+      out->CopyData(in, list->GetId(k), next++);
+    }
+  }
+  vtkWarningMacro(<< "The input is a " << input->GetClassName() << ", not a vtkPolyData: its "
+                  << polys->GetNumberOfCells() + strips->GetNumberOfCells()
+                  << " surface cells (triangles, quads, polygons, strips) are built"
+                  << (volume > 0 ? "; " + std::to_string(volume) +
+                           " volume cells are ignored (extract their boundary with "
+                           "vtkGeometryFilter to build it)"
+                                 : std::string())
+                  << (other > 0
+                         ? "; " + std::to_string(other) + " vertex and line cells are ignored"
+                         : std::string())
+                  << (polys->GetNumberOfCells() + strips->GetNumberOfCells() == 0
+                         ? "; without surface cells its points are built as a point cloud"
+                         : "")
+                  << ".");
+  return surface;
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctreeBuilder::ReportIgnoredCells(vtkPolyData* input)
+{
+  if (input && input->GetNumberOfPolys() + input->GetNumberOfStrips() > 0 &&
+    input->GetNumberOfVerts() + input->GetNumberOfLines() > 0)
+  {
+    vtkWarningMacro(<< "The input's " << input->GetNumberOfVerts() << " vertex and "
+                    << input->GetNumberOfLines()
+                    << " line cells are ignored: only its polygons and strips are built.");
+  }
+}
+
+//------------------------------------------------------------------------------
 int vtkMultiscaleOctreeBuilder::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -241,6 +326,15 @@ int vtkMultiscaleOctreeBuilder::RequestData(
     vtkDebugMacro("Empty input: empty octree.");
     return 1;
   }
+  // a point set whose cells are not a vtkPolyData's (an unstructured grid of triangles, say):
+  // its surface cells are what is built, not a cloud of its points
+  vtkSmartPointer<vtkPolyData> surfaceCells;
+  if (!vtkPolyData::SafeDownCast(input) && input->GetNumberOfCells() > 0)
+  {
+    surfaceCells = this->TakeSurfaceCells(input);
+    input = surfaceCells;
+  }
+  this->ReportIgnoredCells(vtkPolyData::SafeDownCast(input));
 
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
@@ -519,6 +613,15 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   output->SetHasMaterialArrays(hasMaterial);
   output->SetNumberOfBoundaryEdges(result.NumberOfBoundaryEdges);
   output->SetNumberOfNonManifoldEdges(result.NumberOfNonManifoldEdges);
+  output->SetNumberOfMisorientedEdges(result.NumberOfMisorientedEdges);
+  if (result.NumberOfMisorientedEdges > 0)
+  {
+    vtkWarningMacro(<< "The input's triangles are not consistently oriented: "
+                    << result.NumberOfMisorientedEdges
+                    << " edges are used by two triangles in the same direction. Back faces "
+                       "will be drawn (hiding them would open see-through holes); orient the "
+                       "mesh consistently (vtkPolyDataNormals with ConsistencyOn) to hide them.");
+  }
   return 1;
 }
 

@@ -11,11 +11,14 @@
  *
  * Input (a vtkPointSet, usually vtkPolyData):
  * - a mesh: the polygons and triangle strips of a vtkPolyData. Quads and polygons are split
- *   into fans, strips into their triangles; vertices and lines are ignored. Only points used by
+ *   into fans, strips into their triangles; vertices and lines are ignored (with a warning). A
+ *   vtkPointSet that is not a vtkPolyData but has cells (a vtkUnstructuredGrid of triangles)
+ *   gives its triangles, quads, polygons, pixels and strips, with a warning naming what was
+ *   taken and what was ignored (volume cells: extract their boundary first). Only points used by
  *   a triangle count. A polygon array holding only triangles is read in place (no copy), as are
  *   float or double points. Point normals, when present, are the shading normals of the finest
  *   cut; otherwise they are computed as vtkPolyDataNormals does without splitting.
- * - a point cloud: any vtkPointSet without polygons or strips. Point normals are used when
+ * - a point cloud: any vtkPointSet without surface cells. Point normals are used when
  *   present; otherwise they are estimated by PCA over the points within one finest cell edge
  *   and oriented towards the scanner: per point from the array named ViewpointArrayName (3
  *   components, e.g. each scan's scanner position after merging scans), else towards
@@ -89,8 +92,12 @@
 
 #include "PerceptualLODFiltersModule.h" // for export macro
 #include "vtkMultiscaleOctreeAlgorithm.h"
+#include "vtkSmartPointer.h" // for TakeSurfaceCells
 
 #include <string> // for the level reason
+
+class vtkPointSet;
+class vtkPolyData;
 
 class PERCEPTUALLODFILTERS_EXPORT vtkMultiscaleOctreeBuilder : public vtkMultiscaleOctreeAlgorithm
 {
@@ -262,6 +269,12 @@ protected:
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  /// The triangles, quads, polygons, pixels and strips of a point set that is not a
+  /// vtkPolyData, as one (its points and point data shared, its cell data copied), with a
+  /// warning that says what was taken and what was ignored.
+  vtkSmartPointer<vtkPolyData> TakeSurfaceCells(vtkPointSet* input);
+  /// Warns when a mesh's vertex and line cells are left out of its surface.
+  void ReportIgnoredCells(vtkPolyData* input);
 
   int FinestLevel;
   double EstimatedMemory;

@@ -64,9 +64,9 @@ vtkMultiscaleOctreeReader::~vtkMultiscaleOctreeReader()
 //------------------------------------------------------------------------------
 bool vtkMultiscaleOctreeReader::CanReadFile(const char* path)
 {
-  if (!path)
+  if (!path || !plod::IsRegularFile(path, nullptr))
   {
-    return false;
+    return false; // never opened: a FIFO would block
   }
   std::ifstream in(path, std::ios::binary);
   char magic[8] = {};
@@ -140,6 +140,12 @@ int vtkMultiscaleOctreeReader::RequestData(
   output->SetHasMaterialArrays(h.HasMaterialArrays);
   output->SetNumberOfBoundaryEdges(h.BoundaryEdges);
   output->SetNumberOfNonManifoldEdges(h.NonManifoldEdges);
+  output->SetNumberOfMisorientedEdges(h.MisorientedEdges);
+  if (file.Mapped)
+  {
+    // the filters compare the file on disk with the one mapped (only a map can be hurt)
+    output->SetSourceFile(std::make_shared<const plod::FileIdentity>(file.Identity));
+  }
   output->Modified();
   this->Mapped = file.Mapped;
   timer->StopTimer();

@@ -23,6 +23,15 @@
  * the octree (vtkMultiscaleOctree::IsConsistent: an error and an empty output), except values
  * that stay plausible, such as a vertex moved inside its cell.
  *
+ * Only regular files are opened: a FIFO, a device or a directory is refused at once (opening a
+ * FIFO would wait for a writer). The octree remembers the mapped file's identity (device,
+ * inode, size, modification time); every filter that reads the octree compares it with the file
+ * on disk (vtkMultiscaleOctree::GetCheckedView). A file replaced by a rename, as
+ * vtkMultiscaleOctreeWriter saves, leaves the mapped old file intact: the filters go on with
+ * it and warn once. A file rewritten in place, whose mapped pages can no longer be trusted, makes
+ * every filter refuse the octree with an error instead of crashing on a page past the new end.
+ * The file is read again only when the reader is asked to (Modified(), or a new FileName).
+ *
  * @sa vtkMultiscaleOctreeWriter vtkMultiscaleOctree
  */
 #ifndef vtkMultiscaleOctreeReader_h
@@ -69,7 +78,8 @@ public:
   /// Seconds the last read took (opening and checking the file, making the arrays).
   vtkGetMacro(ReadTime, double);
 
-  /// True when `path` starts like an octree file (the magic), for programs choosing a reader.
+  /// True when `path` is a regular file that starts like an octree file (the magic), for
+  /// programs choosing a reader; a FIFO, a device or a directory gives false without waiting.
   static bool CanReadFile(const char* path);
 
 protected:

@@ -53,6 +53,12 @@ void vtkMultiscaleOctreeWriter::WriteData()
     fail("The input is not a vtkMultiscaleOctree.", vtkErrorCode::UnknownError);
     return;
   }
+  std::string changed;
+  if (!octree->IsSourceFileIntact(&changed))
+  {
+    fail("Cannot write the octree: " + changed + ".", vtkErrorCode::UnknownError);
+    return;
+  }
   if (!octree->IsConsistent())
   {
     fail("The octree is inconsistent (see vtkMultiscaleOctree::IsConsistent); not writing it.",
@@ -74,6 +80,7 @@ void vtkMultiscaleOctreeWriter::WriteData()
   header.HasMaterialArrays = octree->GetHasMaterialArrays();
   header.BoundaryEdges = octree->GetNumberOfBoundaryEdges();
   header.NonManifoldEdges = octree->GetNumberOfNonManifoldEdges();
+  header.MisorientedEdges = octree->GetNumberOfMisorientedEdges();
   std::vector<plod::FileArray> arrays;
   plod::OctreeView v;
   if (octree->GetNumberOfNodes() > 0 && octree->GetView(v)) // consistent: the view exists

@@ -23,6 +23,12 @@
  * vtkMultiscaleOctree::IsConsistent() is refused with an error, so a file always holds an octree
  * the filters accept.
  *
+ * Saving cannot lose data: the file is written beside the target under a temporary name, synced,
+ * read back and checked, and only then renamed over the target (plod::WriteOctreeFile). A failed
+ * save (a full disk, say) leaves the old file byte for byte as it was; a program that has the old
+ * file open keeps reading it. A target that is not a regular file (a directory, a FIFO, a device)
+ * is refused before anything is written; a symbolic link stays a link and its target is replaced.
+ *
  * @sa vtkMultiscaleOctreeReader vtkMultiscaleOctreeBuilder
  */
 #ifndef vtkMultiscaleOctreeWriter_h

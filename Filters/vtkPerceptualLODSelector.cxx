@@ -296,10 +296,18 @@ int vtkPerceptualLODSelector::RequestData(
   const auto start = std::chrono::steady_clock::now();
 
   // ---- parameters: check them before touching anything ---------------------------------------
-  const char* problem = nullptr;
   if (!(this->ViewportSize[0] > 0 && this->ViewportSize[1] > 0))
-    problem = "the viewport size must be positive";
-  else if (!this->ParallelProjection && !this->UsePhysicalDisplay &&
+  {
+    // its own message: a zero-size viewport (a hidden or collapsed window) is no camera problem
+    vtkErrorMacro("Invalid input: the viewport size is " << this->ViewportSize[0] << " x "
+                                                         << this->ViewportSize[1]
+                                                         << " pixels; width and height must be "
+                                                            "positive; the previous cut is kept.");
+    this->Internal->RestoreLastCut(output);
+    return 1;
+  }
+  const char* problem = nullptr;
+  if (!this->ParallelProjection && !this->UsePhysicalDisplay &&
     !(this->ViewAngle > 0 && this->ViewAngle < 180))
     problem = "the view angle must be in (0, 180) degrees";
   else if (this->ParallelProjection &&
@@ -331,7 +339,8 @@ int vtkPerceptualLODSelector::RequestData(
   in.Velocity = static_cast<plod::VelocityCriterion>(this->VelocityCriterion);
   in.Foveation = static_cast<plod::FoveationMode>(this->FoveationMode);
   in.HideBackFaces = this->BackFaceMode == BACK_FACES_HIDDEN ||
-    (this->BackFaceMode == BACK_FACES_AUTOMATIC && input->GetNumberOfBoundaryEdges() == 0);
+    (this->BackFaceMode == BACK_FACES_AUTOMATIC && input->GetNumberOfBoundaryEdges() == 0 &&
+      input->GetNumberOfMisorientedEdges() == 0);
   this->HidBackFaces = in.HideBackFaces;
   in.ContourTolerance = this->ContourTolerance;
   in.BrightnessTolerance = this->BrightnessTolerance;

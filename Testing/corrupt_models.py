@@ -37,7 +37,7 @@ def ascii_body(faces=FACES):
 
 
 def models():
-    """(file name, bytes or None for a path that is not a regular file, expected message part)"""
+    """(file name, bytes, None for a missing file, 'dir' or 'fifo', expected message part)"""
     full = header('binary_little_endian') + binary_body()
     swapped = (b'ply\nformat ascii 1.0\nelement face 4\nproperty list uchar int vertex_indices\n'
                b'element vertex 4\nproperty float x\nproperty float y\nproperty float z\n'
@@ -68,6 +68,10 @@ def models():
         ('empty.stl', b'', 'the file is empty'),
         ('missing.obj', None, 'cannot open: No such file or directory'),
         ('folder.vtp', 'dir', 'is a directory'),
+        # FIFOs: opening one would wait for a writer; a program must refuse it at once
+        ('fifo.ply', 'fifo', 'is not a regular file'),
+        ('fifo.stl', 'fifo', 'is not a regular file'),
+        ('fifo.plod', 'fifo', 'is not a regular file'),
         # octree files (vtkMultiscaleOctreeReader): recognised by their magic, then refused
         ('short.plod', b'PLODOCT\n' + bytes(20), 'too short for an octree file'),
         ('version9.plod', b'PLODOCT\n' + struct.pack('<I', 9) + bytes(116),
@@ -88,14 +92,16 @@ def main():
             path = os.path.join(folder, name)
             if content == 'dir':
                 os.mkdir(path)
+            elif content == 'fifo':
+                os.mkfifo(path)
             elif content is not None:
                 with open(path, 'wb') as f:
                     f.write(content)
             try:
                 run = subprocess.run(command + [path], capture_output=True, text=True,
-                                     errors='replace', timeout=300)
+                                     errors='replace', timeout=60 if content == 'fifo' else 300)
             except subprocess.TimeoutExpired:
-                print(f'FAIL {name}: no answer in 300 s')
+                print(f'FAIL {name}: no answer (hung)')
                 failures += 1
                 continue
             problems = []

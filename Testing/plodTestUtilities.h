@@ -526,13 +526,13 @@ inline vtkSmartPointer<vtkPolyData> ReadModel(const std::string& file)
     dot == std::string::npos || (slash != std::string::npos && dot < slash) ? "" : file.substr(dot);
   std::transform(
     ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (!CheckModelFile(file)) // before any reader opens it: a FIFO would block
+  {
+    return nullptr;
+  }
   if (ext == ".ply")
   {
     return ReadPLY(file);
-  }
-  if (!CheckModelFile(file))
-  {
-    return nullptr;
   }
   vtkSmartPointer<vtkAlgorithm> reader;
   if (ext == ".stl")

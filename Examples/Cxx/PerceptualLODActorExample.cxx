@@ -9,6 +9,7 @@
 #include "vtkMultiscaleOctreeReader.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
+#include "vtkPLYFileCheck.h"
 #include "vtkPLYReader.h"
 #include "vtkPerceptualLODActor.h"
 #include "vtkPerceptualLODSelector.h"
@@ -21,6 +22,8 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+
+#include <sys/stat.h>
 
 int main(int argc, char* argv[])
 {
@@ -37,6 +40,17 @@ int main(int argc, char* argv[])
   vtkNew<vtkMultiscaleOctreeReader> octreeFile;
   vtkNew<vtkPLYReader> ply;
   vtkNew<vtkSphereSource> sphere;
+  struct stat st;
+  if (!file.empty() && (::stat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode)))
+  {
+    // checked before any reader opens it: a FIFO would make it wait forever
+    std::fprintf(stderr,
+      "cannot read '%s': missing, or not a regular file (a directory, a FIFO "
+      "or a device)\n",
+      file.c_str());
+    return 1;
+  }
+  vtkNew<vtkPLYFileCheck> check; // VTK's PLY reader crashes on some damaged files
   if (!file.empty() && vtkMultiscaleOctreeReader::CanReadFile(file.c_str()))
   {
     octreeFile->SetFileName(file.c_str()); // a saved octree: nothing to build
@@ -44,6 +58,12 @@ int main(int argc, char* argv[])
   }
   else if (!file.empty())
   {
+    check->SetFileName(file.c_str());
+    if (!check->Check())
+    {
+      std::fprintf(stderr, "cannot read '%s': %s\n", file.c_str(), check->GetErrorMessage());
+      return 1;
+    }
     ply->SetFileName(file.c_str());
     actor->SetInputConnection(ply->GetOutputPort());
   }

@@ -1055,6 +1055,15 @@ bool MeshBuild::ComputeNormals()
     [&](double f) { return this->Report(f); });
 }
 
+namespace
+{
+/// The other end of an edge use stored by MakeEdges (a downward use is stored complemented).
+inline int32_t EdgeEnd(int32_t stored)
+{
+  return stored < 0 ? ~stored : stored;
+}
+}
+
 bool MeshBuild::MakeEdges()
 {
   this->Report.Phase("edges", 0.4, 0.45);
@@ -1090,15 +1099,20 @@ bool MeshBuild::MakeEdges()
       }
       for (int k = 0; k < 3; ++k)
       {
+        // the edge a -> b under its lower end; a use from the higher end down is stored as the
+        // complement of the higher end, so that the orientation of every use is known below
         const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
-        to[cursor[std::min(a, b)]++] = std::max(a, b);
+        to[cursor[std::min(a, b)]++] = a < b ? b : ~a;
       }
     }
   }
+  // each point's uses sorted by the other end, upward uses before downward ones
   this->For(this->Points, 4096, [&](int64_t b, int64_t e) {
     for (int64_t p = b; p < e; ++p)
     {
-      std::sort(to.begin() + start[p], to.begin() + start[p + 1]);
+      std::sort(to.begin() + start[p], to.begin() + start[p + 1], [](int32_t x, int32_t y) {
+        return EdgeEnd(x) != EdgeEnd(y) ? EdgeEnd(x) < EdgeEnd(y) : x > y;
+      });
     }
   });
   if (!this->Report(0.5))
@@ -1119,15 +1133,18 @@ bool MeshBuild::MakeEdges()
     for (int64_t i = start[p]; i < start[p + 1];)
     {
       int64_t j = i + 1;
-      while (j < start[p + 1] && to[j] == to[i])
+      while (j < start[p + 1] && EdgeEnd(to[j]) == EdgeEnd(to[i]))
       {
         ++j;
       }
       this->R.NumberOfNonManifoldEdges += (j - i > 2) ? 1 : 0;
+      // two triangles that agree on their orientation use their shared edge in opposite
+      // directions (the upward use sorts first)
+      this->R.NumberOfMisorientedEdges += (j - i == 2 && (to[i] < 0) == (to[i + 1] < 0)) ? 1 : 0;
       if (j - i == 1)
       {
         ++this->R.NumberOfBoundaryEdges;
-        const int32_t a = static_cast<int32_t>(p), b = to[i];
+        const int32_t a = static_cast<int32_t>(p), b = EdgeEnd(to[i]);
         // the edge's triangle: among the triangles of whichever end has fewer, the one holding
         // the other end (a hub of d boundary spokes then costs d, not d^2)
         int64_t tri = -1;
@@ -1166,6 +1183,11 @@ bool MeshBuild::MakeEdges()
       }
       i = j;
     }
+  }
+  // the later phases read the plain ends
+  for (int32_t& x : to)
+  {
+    x = EdgeEnd(x);
   }
   for (int64_t n = this->Nodes - 1; n > 0; --n)
   {

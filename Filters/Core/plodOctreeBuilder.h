@@ -217,8 +217,11 @@ struct BuildResult
   int64_t NumberOfUnsafeNodes = 0;      // nodes without NodeTopologySafe
   int64_t NumberOfBoundaryEdges = 0;    // edges used by one triangle
   int64_t NumberOfNonManifoldEdges = 0; // edges used by more than two
-  int64_t NumberOfGhostPoints = 0;      // surface points flagged as ghosts
-  double EstimatedBytes = 0;            // estimated peak of the build's own memory
+  /// Edges used by two triangles in the same direction: the triangles disagree on which side is
+  /// the front (an inconsistently oriented mesh), so back faces cannot be hidden.
+  int64_t NumberOfMisorientedEdges = 0;
+  int64_t NumberOfGhostPoints = 0; // surface points flagged as ghosts
+  double EstimatedBytes = 0;       // estimated peak of the build's own memory
 };
 
 /// Estimated peak bytes of a build's own memory (outputs and work arrays, not the input).

@@ -2,6 +2,7 @@
 #include "plodOctreeFile.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -214,16 +215,21 @@ uint64_t FileChecksum(const void* data, size_t bytes)
   return h;
 }
 
-bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
-  const std::vector<FileArray>& arrays, std::string* error)
+namespace
+{
+/// The header and directory of a file holding `arrays`, each array's offset, and the file's
+/// size; false with `error` when an array cannot be written.
+bool EncodeHeader(const OctreeFileHeader& header, const std::vector<FileArray>& arrays,
+  std::vector<unsigned char>& head, std::vector<uint64_t>& offset, uint64_t& fileSize,
+  std::string* error)
 {
   if (arrays.size() > MaxArrays)
   {
     return Fail(error, "too many arrays (" + std::to_string(arrays.size()) + ")");
   }
   const size_t headerSize = HeaderBytes + EntryBytes * arrays.size();
-  std::vector<unsigned char> head(headerSize, 0);
-  std::vector<uint64_t> offset(arrays.size());
+  head.assign(headerSize, 0);
+  offset.assign(arrays.size(), 0);
   uint64_t end = AlignUp(headerSize);
   for (size_t a = 0; a < arrays.size(); ++a)
   {
@@ -259,7 +265,7 @@ bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
     Put<uint64_t>(e + 56, sum);
   }
   // the file ends with the last array (no padding after it)
-  uint64_t fileSize = AlignUp(headerSize);
+  fileSize = AlignUp(headerSize);
   for (size_t a = 0; a < arrays.size(); ++a)
   {
     const uint64_t bytes = uint64_t(arrays[a].Tuples) * uint64_t(arrays[a].Components) *
@@ -285,17 +291,148 @@ bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
     Put<int64_t>(head.data() + 64 + 8 * k, counts[k]);
   }
   Put<uint64_t>(head.data() + 112, fileSize);
+  Put<uint32_t>(head.data() + 124,
+    static_cast<uint32_t>(std::min<int64_t>(
+      std::max<int64_t>(header.MisorientedEdges, 0), std::numeric_limits<uint32_t>::max())));
   Put<uint32_t>(head.data() + 120, HeaderChecksum(head.data(), headerSize));
+  return true;
+}
 
-  std::FILE* out = std::fopen(path.c_str(), "wb");
-  if (!out)
+/// What kind of file `mode` describes, for messages.
+std::string KindOf(mode_t mode)
+{
+  return S_ISDIR(mode) ? "is a directory"
+    : S_ISFIFO(mode)   ? "is a FIFO (named pipe)"
+    : S_ISCHR(mode)    ? "is a character device"
+    : S_ISBLK(mode)    ? "is a block device"
+    : S_ISSOCK(mode)   ? "is a socket"
+                       : "is not a regular file";
+}
+
+/// The file a write to `path` replaces: `path` itself, or the file a symbolic link (or a chain
+/// of them) points to. `existing` tells whether it exists (then `mode` holds its permissions).
+/// False with `error` when the target exists and is not a regular file.
+bool ResolveWriteTarget(
+  const std::string& path, std::string& target, bool& existing, mode_t& mode, std::string* error)
+{
+  target = path;
+  for (int hops = 0; hops < 40; ++hops)
   {
-    return Fail(error, "cannot open '" + path + "' for writing: " + std::strerror(errno));
+    struct stat st;
+    if (::lstat(target.c_str(), &st) != 0)
+    {
+      if (errno != ENOENT)
+      {
+        return Fail(error, "cannot write '" + path + "': " + std::strerror(errno));
+      }
+      existing = false; // a new file (or a dangling link's target: created)
+      return true;
+    }
+    if (S_ISREG(st.st_mode))
+    {
+      existing = true;
+      mode = st.st_mode & 07777;
+      return true;
+    }
+    if (!S_ISLNK(st.st_mode))
+    {
+      return Fail(error,
+        "cannot write '" + path + "': it " + KindOf(st.st_mode) +
+          "; an octree is saved only to a regular file, which it replaces");
+    }
+    std::vector<char> link(static_cast<size_t>(st.st_size > 0 ? st.st_size : 4096) + 1);
+    const ssize_t n = ::readlink(target.c_str(), link.data(), link.size() - 1);
+    if (n < 0)
+    {
+      return Fail(error, "cannot write '" + path + "': " + std::strerror(errno));
+    }
+    std::string next(link.data(), static_cast<size_t>(n));
+    if (!next.empty() && next[0] != '/')
+    {
+      const size_t slash = target.find_last_of('/');
+      next = (slash == std::string::npos ? std::string() : target.substr(0, slash + 1)) + next;
+    }
+    target = next;
   }
-  bool ok = std::fwrite(head.data(), 1, head.size(), out) == head.size();
+  return Fail(error, "cannot write '" + path + "': too many levels of symbolic links");
+}
+
+/// The directory of `file` ("." for a bare name).
+std::string DirectoryOf(const std::string& file)
+{
+  const size_t slash = file.find_last_of('/');
+  return slash == std::string::npos ? std::string(".")
+    : slash == 0                    ? std::string("/")
+                                    : file.substr(0, slash);
+}
+
+/// Creates a new, empty temporary file beside `target`; its descriptor (or -1 with `error`).
+int CreateTemporaryBeside(const std::string& target, std::string& temporary, std::string* error)
+{
+  const size_t slash = target.find_last_of('/');
+  const std::string base = slash == std::string::npos ? target : target.substr(slash + 1);
+  const std::string prefix =
+    (slash == std::string::npos ? std::string() : target.substr(0, slash + 1)) + "." + base + ".";
+  static std::atomic<unsigned> counter{ 0 };
+  for (int attempt = 0; attempt < 100; ++attempt)
+  {
+    char suffix[48];
+    std::snprintf(suffix, sizeof suffix, "%ld.%u.tmp", static_cast<long>(::getpid()),
+      counter.fetch_add(1) * 2654435761u + static_cast<unsigned>(attempt));
+    temporary = prefix + suffix;
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0)
+    {
+      return fd;
+    }
+    if (errno != EEXIST)
+    {
+      Fail(error,
+        "cannot create a temporary file in '" + DirectoryOf(target) + "' to write '" + target +
+          "': " + std::strerror(errno));
+      return -1;
+    }
+  }
+  Fail(error, "cannot create a temporary file beside '" + target + "'");
+  return -1;
+}
+
+/// Writes all `bytes` at `data` to `fd`; false (errno set) on a short or failed write.
+bool WriteAll(int fd, const void* data, uint64_t bytes)
+{
+  const char* p = static_cast<const char*>(data);
+  while (bytes > 0)
+  {
+    const ssize_t n = ::write(fd, p, static_cast<size_t>(std::min<uint64_t>(bytes, 1u << 30)));
+    if (n < 0 && errno == EINTR)
+    {
+      continue;
+    }
+    if (n <= 0)
+    {
+      if (n == 0)
+      {
+        errno = ENOSPC;
+      }
+      return false;
+    }
+    p += n;
+    bytes -= static_cast<uint64_t>(n);
+  }
+  return true;
+}
+
+/// Writes the header and every array at its offset to `fd` (little-endian).
+bool WriteContents(int fd, const std::vector<unsigned char>& head,
+  const std::vector<FileArray>& arrays, const std::vector<uint64_t>& offset)
+{
+  if (!WriteAll(fd, head.data(), head.size()))
+  {
+    return false;
+  }
   uint64_t at = head.size();
   const std::vector<unsigned char> zeros(Alignment, 0);
-  for (size_t a = 0; a < arrays.size() && ok; ++a)
+  for (size_t a = 0; a < arrays.size(); ++a)
   {
     const FileArray& f = arrays[a];
     const int size = FileTypeSize(f.Type);
@@ -304,35 +441,174 @@ bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
     {
       continue;
     }
-    ok = ok && std::fwrite(zeros.data(), 1, offset[a] - at, out) == offset[a] - at;
+    if (!WriteAll(fd, zeros.data(), offset[a] - at))
+    {
+      return false;
+    }
     const unsigned char* p = static_cast<const unsigned char*>(f.Data);
     if (HostIsLittleEndian() || size == 1)
     {
-      ok = ok && std::fwrite(p, 1, bytes, out) == bytes;
+      if (!WriteAll(fd, p, bytes))
+      {
+        return false;
+      }
     }
     else
     {
       std::vector<unsigned char> chunk;
-      for (uint64_t done = 0; done < bytes && ok; done += chunk.size())
+      for (uint64_t done = 0; done < bytes; done += chunk.size())
       {
         chunk.assign(p + done, p + std::min<uint64_t>(bytes, done + (1u << 20)));
         SwapValues(chunk.data(), chunk.size(), size);
-        ok = std::fwrite(chunk.data(), 1, chunk.size(), out) == chunk.size();
+        if (!WriteAll(fd, chunk.data(), chunk.size()))
+        {
+          return false;
+        }
       }
     }
     at = offset[a] + bytes;
   }
-  if (ok && at < AlignUp(headerSize))
+  const uint64_t headerEnd = AlignUp(head.size());
+  return at >= headerEnd || WriteAll(fd, zeros.data(), headerEnd - at);
+}
+
+/// Syncs the directory `dir`, so that a rename in it survives a crash (best effort: some
+/// file systems cannot sync a directory).
+void SyncDirectory(const std::string& dir)
+{
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd >= 0)
   {
-    ok = std::fwrite(zeros.data(), 1, AlignUp(headerSize) - at, out) == AlignUp(headerSize) - at;
+    ::fsync(fd);
+    ::close(fd);
   }
-  ok = (std::fclose(out) == 0) && ok;
+}
+} // namespace
+
+bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
+  const std::vector<FileArray>& arrays, std::string* error)
+{
+  std::vector<unsigned char> head;
+  std::vector<uint64_t> offset;
+  uint64_t fileSize = 0;
+  std::string target, temporary;
+  bool existing = false;
+  mode_t mode = 0;
+  if (path.empty())
+  {
+    return Fail(error, "no file name to write the octree to");
+  }
+  if (!EncodeHeader(header, arrays, head, offset, fileSize, error) ||
+    !ResolveWriteTarget(path, target, existing, mode, error))
+  {
+    return false; // nothing written
+  }
+  const int fd = CreateTemporaryBeside(target, temporary, error);
+  if (fd < 0)
+  {
+    return false;
+  }
+  // from here on, a failure removes the temporary file and nothing else
+  auto abandon = [&](const std::string& what) {
+    const std::string reason = what + ": " + std::strerror(errno);
+    ::unlink(temporary.c_str());
+    return Fail(error,
+      "writing '" + path + "' failed (" + reason + "); " +
+        (existing ? "the existing file is unchanged" : "no file was made"));
+  };
+  bool ok = WriteContents(fd, head, arrays, offset);
+  const char* step = "write";
+  if (ok && existing && ::fchmod(fd, mode) != 0)
+  {
+    ok = false;
+    step = "setting the permissions";
+  }
+  if (ok && ::fsync(fd) != 0)
+  {
+    ok = false;
+    step = "sync";
+  }
+  const int savedErrno = errno;
+  if (::close(fd) != 0 && ok)
+  {
+    ok = false;
+    step = "close";
+  }
+  else
+  {
+    errno = savedErrno;
+  }
   if (!ok)
   {
-    std::remove(path.c_str());
-    return Fail(error, "writing '" + path + "' failed: " + std::strerror(errno));
+    return abandon(step);
+  }
+  OctreeFile check;
+  std::string why;
+  if (!OpenOctreeFile(temporary, true, true, check, &why) ||
+    check.Identity.Size != static_cast<int64_t>(fileSize))
+  {
+    errno = EIO;
+    return abandon("the written file does not read back (" + why + ")");
+  }
+  check = OctreeFile();
+  if (::rename(temporary.c_str(), target.c_str()) != 0)
+  {
+    return abandon("rename over the target");
+  }
+  SyncDirectory(DirectoryOf(target));
+  return true;
+}
+
+bool IsRegularFile(const std::string& path, std::string* why)
+{
+  struct stat st;
+  if (path.empty() || ::stat(path.c_str(), &st) != 0)
+  {
+    return Fail(why, path.empty() ? "no file name" : std::strerror(errno));
+  }
+  if (!S_ISREG(st.st_mode))
+  {
+    return Fail(why, KindOf(st.st_mode) + ", not a regular file");
   }
   return true;
+}
+
+namespace
+{
+FileIdentity IdentityOf(const std::string& path, const struct stat& st)
+{
+  FileIdentity id;
+  id.Path = path;
+  id.Device = static_cast<uint64_t>(st.st_dev);
+  id.Inode = static_cast<uint64_t>(st.st_ino);
+  id.Size = static_cast<int64_t>(st.st_size);
+  id.ModifiedNs = static_cast<int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
+  return id;
+}
+}
+
+FileChange CompareFileIdentity(const FileIdentity& opened, std::string* why)
+{
+  struct stat st;
+  if (::stat(opened.Path.c_str(), &st) != 0)
+  {
+    Fail(why, "'" + opened.Path + "' is gone (" + std::strerror(errno) + ")");
+    return FileChange::Gone;
+  }
+  const FileIdentity now = IdentityOf(opened.Path, st);
+  if (now.Device != opened.Device || now.Inode != opened.Inode)
+  {
+    Fail(why, "'" + opened.Path + "' was replaced by another file");
+    return FileChange::Replaced;
+  }
+  if (now.Size != opened.Size || now.ModifiedNs != opened.ModifiedNs)
+  {
+    Fail(why,
+      "'" + opened.Path + "' was changed in place since it was opened (" +
+        std::to_string(opened.Size) + " bytes then, " + std::to_string(now.Size) + " now)");
+    return FileChange::ChangedInPlace;
+  }
+  return FileChange::Same;
 }
 
 bool OpenOctreeFile(
@@ -340,7 +616,14 @@ bool OpenOctreeFile(
 {
   out = OctreeFile();
   const std::string where = path + ": ";
-  FileCloser file{ ::open(path.c_str(), O_RDONLY | O_CLOEXEC) };
+  // decided before opening: opening a FIFO would wait for a writer
+  std::string kind;
+  if (!IsRegularFile(path, &kind))
+  {
+    return Fail(error, where + "cannot open: " + kind);
+  }
+  // non-blocking, should the path have become a FIFO since
+  FileCloser file{ ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK) };
   if (file.Fd < 0)
   {
     return Fail(error, where + "cannot open: " + std::strerror(errno));
@@ -348,8 +631,9 @@ bool OpenOctreeFile(
   struct stat st;
   if (::fstat(file.Fd, &st) != 0 || !S_ISREG(st.st_mode))
   {
-    return Fail(error, where + (S_ISDIR(st.st_mode) ? "is a directory" : "not a regular file"));
+    return Fail(error, where + "cannot open: " + KindOf(st.st_mode) + ", not a regular file");
   }
+  out.Identity = IdentityOf(path, st);
   const uint64_t size = static_cast<uint64_t>(st.st_size);
   if (size < HeaderBytes)
   {
@@ -438,6 +722,7 @@ bool OpenOctreeFile(
   {
     *counts[k] = Get<int64_t>(bytes + 64 + 8 * k);
   }
+  h.MisorientedEdges = Get<uint32_t>(bytes + 124);
   const int64_t maxIndex = std::numeric_limits<int32_t>::max();
   if (!(std::isfinite(h.Origin[0]) && std::isfinite(h.Origin[1]) && std::isfinite(h.Origin[2]) &&
         std::isfinite(h.RootEdge) && h.RootEdge > 0) ||

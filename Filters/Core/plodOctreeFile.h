@@ -21,7 +21,7 @@
  * | 64 | 48 | nodes, points, triangles, clusters, boundary edges, non-manifold edges (int64) |
  * | 112 | 8 | file size in bytes |
  * | 120 | 4 | checksum of the header and directory (this field counted as 0) |
- * | 124 | 4 | reserved (0) |
+ * | 124 | 4 | misoriented edges (uint32, saturated at 2^32 - 1; 0 in files that predate it) |
  * | 128 | 64 each | directory: name (32 bytes, NUL-padded), group (1: 0 node, 1 cluster, 2 surface
  * point, 3 surface triangle), type (1: uint8, 2: int32, 3: float32, 4: int64), components (uint16),
  * reserved (4), tuples (int64), offset (uint64), checksum of the data (uint64) |
@@ -30,7 +30,10 @@
  * holds tuples x components values. The checksums are 64-bit FNV-1a over 8-byte words (the
  * tail byte by byte); the header's is folded to 32 bits.
  *
- * Reading maps the file (copy-on-write: edits of the arrays never reach the file) and checks
+ * Writing never rewrites a file in place (see WriteOctreeFile). Reading opens only regular files
+ * (a FIFO or a device is refused without being opened), maps the file (copy-on-write: edits of
+ * the arrays never reach the file), records the file's identity (device, inode, size,
+ * modification time: CompareFileIdentity tells later whether it changed underneath) and checks
  * everything that does not need the data: magic, version, byte order, header checksum, sizes,
  * offsets inside the file, counts that agree with each group. The data's checksums are checked
  * only when asked (it reads every byte); the octree's consistency is checked by the filters that
@@ -59,6 +62,7 @@ struct OctreeFileHeader
   bool HasMaterialArrays = false;
   int64_t Nodes = 0, Points = 0, Triangles = 0, Clusters = 0;
   int64_t BoundaryEdges = 0, NonManifoldEdges = 0;
+  int64_t MisorientedEdges = 0; // stored as a 32-bit count, saturated (files before: 0)
 };
 
 /// The value types and groups of the file's arrays are the schema's (plodOctreeSchema.h).
@@ -84,9 +88,51 @@ struct FileArray
 /// plodOctreeSchema.h (the optional ones are not stored).
 const std::vector<ArraySpec>& OctreeFileSchema();
 
-/// Writes `arrays` and `header` to `path` (replacing it). False with `error` set on failure.
+/**
+ * Writes `arrays` and `header` to `path` without ever losing what was there: the file is
+ * written to a new temporary file beside the target (`.<name>.<random>.tmp`, in the target's
+ * directory), flushed and synced, opened again and checked (structure and every checksum), and
+ * only then renamed over the target, whose directory is synced. On any failure (a full disk, a
+ * write error, a failed check) only the temporary file is removed: an existing target is left
+ * byte for byte as it was. Because the target is replaced by a rename and never rewritten in
+ * place, a program that has the old file mapped keeps reading the old file's bytes.
+ *
+ * `path` may name a new file, an existing regular file (its permissions are kept), or a symbolic
+ * link to either (the link stays and its target is replaced). Anything else (a directory, a
+ * FIFO, a device, a socket, a link to one of them) is refused before anything is written. False
+ * with `error` set (what failed, and for which file) on failure.
+ */
 bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
   const std::vector<FileArray>& arrays, std::string* error);
+
+/**
+ * True when `path` names a regular file (following symbolic links), decided without opening it,
+ * so that a FIFO, whose opening would block until a writer comes, is never opened. False with
+ * `why` ("does not exist", "is a directory", "is a FIFO", "is a device", "is a socket") otherwise.
+ */
+bool IsRegularFile(const std::string& path, std::string* why);
+
+/// What identifies the file an octree was opened from, to notice a change underneath.
+struct FileIdentity
+{
+  std::string Path;
+  uint64_t Device = 0;
+  uint64_t Inode = 0;
+  int64_t Size = 0;
+  int64_t ModifiedNs = 0; // modification time, nanoseconds since the epoch
+};
+
+/// How the file at an identity's path compares with the file that was opened.
+enum class FileChange
+{
+  Same,           // the same file, same size and modification time
+  Replaced,       // another file now has the path (a rename over it): the opened one is intact
+  ChangedInPlace, // the opened file itself was rewritten or truncated: a map of it is unsafe
+  Gone            // nothing has the path any more (the opened file lives while it is mapped)
+};
+
+/// Compares the file now at `opened.Path` with `opened`; `why` says what changed (not Same).
+FileChange CompareFileIdentity(const FileIdentity& opened, std::string* why);
 
 /**
  * An octree file opened for reading. Open maps it (or, where mapping fails or the machine is
@@ -99,6 +145,7 @@ struct OctreeFile
   std::vector<FileArray> Arrays;
   std::shared_ptr<void> Memory; // keeps the mapping (or buffer) alive
   bool Mapped = false;          // true when Data point into a memory map of the file
+  FileIdentity Identity;        // the file that was opened, as it was then
 };
 
 /**

@@ -11,6 +11,7 @@
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
+#include "vtkCommand.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkExecutive.h"
@@ -29,6 +30,7 @@
 #include "vtkSMPTools.h"
 #include "vtkStaticPointLocator.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
 
@@ -1773,4 +1775,106 @@ TEST(MultiscaleOctreeBuilder, PiecesWithASharedCubeAndLevelMatchTheWholeBuild)
     EXPECT_EQ(compared, expected) << what;
     EXPECT_GT(compared, 200) << what;
   }
+}
+
+// Orientation: a closed mesh whose triangles disagree on their front side is counted edge by
+// edge (an edge used twice in the same direction), so that back faces are not hidden on it.
+TEST(MultiscaleOctreeBuilder, MisorientedEdgesAreCountedExactly)
+{
+  auto cube = plodtest::MakeDeformedBox(4, 4, 4, [](const double p[3], double x[3]) {
+    for (int a = 0; a < 3; ++a)
+      x[a] = p[a];
+  });
+  Built consistent = Build(cube, 3);
+  EXPECT_EQ(consistent.Octree->GetNumberOfBoundaryEdges(), 0);
+  EXPECT_EQ(consistent.Octree->GetNumberOfMisorientedEdges(), 0);
+  // reverse one triangle that shares no edge with another reversed one: its three edges are
+  // now each used twice in one direction
+  vtkNew<vtkCellArray> polys;
+  vtkIdType n = 0;
+  const vtkIdType* ids = nullptr;
+  cube->GetPolys()->InitTraversal();
+  for (vtkIdType k = 0; cube->GetPolys()->GetNextCell(n, ids); ++k)
+  {
+    ASSERT_EQ(n, 3);
+    if (k == 5)
+      polys->InsertNextCell({ ids[2], ids[1], ids[0] });
+    else
+      polys->InsertNextCell(n, ids);
+  }
+  vtkNew<vtkPolyData> flipped;
+  flipped->SetPoints(cube->GetPoints());
+  flipped->SetPolys(polys);
+  vtkNew<plodtest::ErrorRecorder> warnings;
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->AddObserver(vtkCommand::WarningEvent, warnings);
+  builder->SetInputData(flipped);
+  builder->SetFinestLevel(3);
+  builder->Update();
+  EXPECT_EQ(builder->GetOutput()->GetNumberOfBoundaryEdges(), 0);
+  EXPECT_EQ(builder->GetOutput()->GetNumberOfMisorientedEdges(), 3);
+  ASSERT_EQ(warnings->Warnings.size(), 1u);
+  EXPECT_NE(warnings->Warnings[0].find("3 edges are used by two triangles in the same direction"),
+    std::string::npos)
+    << warnings->Warnings[0];
+  // the surface is still the input, the reversed triangle as given
+  Built b = Build(flipped, 3);
+  CheckSurfaceIsTheInput(b, flipped, "one triangle reversed");
+}
+
+// A vtkUnstructuredGrid of triangles is built as a surface (not contoured as a cloud of its
+// points), with a warning naming what was taken and what was ignored; a mesh's lines too.
+TEST(MultiscaleOctreeBuilder, NonPolyDataCellsAreTakenAndIgnoredCellsNamed)
+{
+  auto blob = plodtest::MakeBlob(3, 30, 0.2);
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->SetPoints(blob->GetPoints());
+  grid->Allocate(blob->GetNumberOfPolys() + 2);
+  vtkIdType n = 0;
+  const vtkIdType* ids = nullptr;
+  blob->GetPolys()->InitTraversal();
+  while (blob->GetPolys()->GetNextCell(n, ids))
+  {
+    grid->InsertNextCell(VTK_TRIANGLE, n, ids);
+  }
+  const vtkIdType tet[4] = { 0, 1, 2, 3 };
+  grid->InsertNextCell(VTK_TETRA, 4, tet);
+  const vtkIdType line[2] = { 4, 5 };
+  grid->InsertNextCell(VTK_LINE, 2, line);
+  vtkNew<plodtest::ErrorRecorder> warnings;
+  vtkNew<vtkMultiscaleOctreeBuilder> fromGrid;
+  fromGrid->AddObserver(vtkCommand::WarningEvent, warnings);
+  fromGrid->SetInputData(grid);
+  fromGrid->SetFinestLevel(5);
+  fromGrid->Update();
+  vtkNew<vtkMultiscaleOctreeBuilder> fromMesh;
+  fromMesh->SetInputData(blob);
+  fromMesh->SetFinestLevel(5);
+  fromMesh->Update();
+  EXPECT_EQ(fromGrid->GetOutput()->GetNumberOfSurfaceTriangles(), blob->GetNumberOfPolys());
+  EXPECT_EQ(fromGrid->GetOutput()->GetNumberOfNodes(), fromMesh->GetOutput()->GetNumberOfNodes());
+  ASSERT_EQ(warnings->Warnings.size(), 1u);
+  const std::string& w = warnings->Warnings[0];
+  EXPECT_NE(w.find("vtkUnstructuredGrid, not a vtkPolyData"), std::string::npos) << w;
+  EXPECT_NE(w.find(std::to_string(blob->GetNumberOfPolys()) + " surface cells"), std::string::npos)
+    << w;
+  EXPECT_NE(w.find("1 volume cells are ignored"), std::string::npos) << w;
+  EXPECT_NE(w.find("1 vertex and line cells are ignored"), std::string::npos) << w;
+  // a mesh with lines: built from its polygons, the lines named
+  vtkNew<vtkPolyData> withLines;
+  withLines->DeepCopy(blob);
+  vtkNew<vtkCellArray> lines;
+  lines->InsertNextCell({ 0, 1 });
+  lines->InsertNextCell({ 1, 2 });
+  withLines->SetLines(lines);
+  vtkNew<plodtest::ErrorRecorder> second;
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->AddObserver(vtkCommand::WarningEvent, second);
+  builder->SetInputData(withLines);
+  builder->SetFinestLevel(5);
+  builder->Update();
+  EXPECT_EQ(builder->GetOutput()->GetNumberOfSurfaceTriangles(), blob->GetNumberOfPolys());
+  ASSERT_EQ(second->Warnings.size(), 1u);
+  EXPECT_NE(second->Warnings[0].find("0 vertex and 2 line cells are ignored"), std::string::npos)
+    << second->Warnings[0];
 }

@@ -32,6 +32,13 @@
 #include <string>
 #include <vector>
 
+#include <csignal>
+#include <initializer_list>
+
+#include <dirent.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 namespace
@@ -129,6 +136,7 @@ void ExpectIdentical(vtkMultiscaleOctree* a, vtkMultiscaleOctree* b, const std::
   EXPECT_EQ(a->GetHasMaterialArrays(), b->GetHasMaterialArrays());
   EXPECT_EQ(a->GetNumberOfBoundaryEdges(), b->GetNumberOfBoundaryEdges());
   EXPECT_EQ(a->GetNumberOfNonManifoldEdges(), b->GetNumberOfNonManifoldEdges());
+  EXPECT_EQ(a->GetNumberOfMisorientedEdges(), b->GetNumberOfMisorientedEdges());
 }
 
 /// The selector and patch generator on `octree` from a fixed eye: the drawn triangles.
@@ -277,6 +285,18 @@ TEST(MultiscaleOctreeFile, GhostFlagsAreNotStoredAndTheWriterSaysSo)
   std::remove(path.c_str());
 }
 
+TEST(MultiscaleOctreeFile, MisorientedEdgeCountRoundTrips)
+{
+  auto octree = BuildOctree(16);
+  octree->SetNumberOfMisorientedEdges(7); // as for a mesh whose triangles disagree
+  const std::string path = TempPath("misoriented.plod");
+  ASSERT_TRUE(Write(octree, path));
+  ReadResult r = Read(path, true);
+  ASSERT_TRUE(r.Error.empty()) << r.Error;
+  EXPECT_EQ(r.Octree->GetNumberOfMisorientedEdges(), 7);
+  std::remove(path.c_str());
+}
+
 TEST(MultiscaleOctreeFile, EmptyOctreeRoundTrips)
 {
   vtkNew<vtkMultiscaleOctree> empty;
@@ -299,7 +319,9 @@ TEST(MultiscaleOctreeFile, WriterRefusesBadInputWithAMessage)
   EXPECT_NE(std::string(writer->GetErrorMessage()).find("file name"), std::string::npos);
   writer->SetFileName("/nonexistent-folder/x.plod");
   EXPECT_EQ(writer->Write(), 0);
-  EXPECT_NE(std::string(writer->GetErrorMessage()).find("cannot open"), std::string::npos);
+  EXPECT_NE(std::string(writer->GetErrorMessage()).find("cannot create a temporary file"),
+    std::string::npos)
+    << writer->GetErrorMessage();
   // an inconsistent octree is not written
   vtkNew<vtkMultiscaleOctree> bad;
   bad->DeepCopy(octree);
@@ -416,4 +438,289 @@ TEST(MultiscaleOctreeFile, CorruptFilesAreClearErrorsNeverCrashes)
   EXPECT_GT(cases, header);
   std::remove(path.c_str());
   std::remove(good.c_str());
+}
+
+// ------------------------------------------------------------------------------------------------
+// Nothing lost, nothing hung: safe writes, files changed underneath, files that are not files
+
+namespace
+{
+/// The entries of the temporary folder whose name starts with `prefix` (a writer's temporary
+/// files are `.<name>.<random>.tmp` beside the target).
+int CountEntries(const std::string& prefix)
+{
+  const size_t slash = prefix.find_last_of('/');
+  const std::string dir = prefix.substr(0, slash);
+  const std::string start = prefix.substr(slash + 1);
+  int n = 0;
+  if (DIR* d = ::opendir(dir.c_str()))
+  {
+    while (dirent* e = ::readdir(d))
+    {
+      n += std::string(e->d_name).rfind(start, 0) == 0 ? 1 : 0;
+    }
+    ::closedir(d);
+  }
+  return n;
+}
+
+/// The temporary files a save to `path` may have left: `.<name>.*` beside it.
+int LeftoverTemporaries(const std::string& path)
+{
+  const size_t slash = path.find_last_of('/');
+  return CountEntries(path.substr(0, slash + 1) + "." + path.substr(slash + 1) + ".");
+}
+
+/// Writes `octree` to `path` while the process may write files of at most `limit` bytes (as a
+/// full disk would stop it: writes past the limit fail with EFBIG); the writer's message.
+std::string WriteWithFileSizeLimit(
+  vtkMultiscaleOctree* octree, const std::string& path, rlim_t limit, int* result)
+{
+  struct rlimit old;
+  ::getrlimit(RLIMIT_FSIZE, &old);
+  struct rlimit small = old;
+  small.rlim_cur = limit;
+  auto* previous = std::signal(SIGXFSZ, SIG_IGN);
+  ::setrlimit(RLIMIT_FSIZE, &small);
+  vtkNew<vtkMultiscaleOctreeWriter> writer;
+  vtkNew<plodtest::ErrorRecorder> errors;
+  writer->AddObserver(vtkCommand::ErrorEvent, errors);
+  writer->SetInputData(octree);
+  writer->SetFileName(path.c_str());
+  *result = writer->Write();
+  ::setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, previous);
+  return writer->GetErrorMessage();
+}
+
+bool IsFifo(const std::string& path)
+{
+  struct stat st;
+  return ::lstat(path.c_str(), &st) == 0 && S_ISFIFO(st.st_mode);
+}
+}
+
+TEST(MultiscaleOctreeFile, FailedOverwriteLeavesTheOldFileByteIdentical)
+{
+  auto small = BuildOctree(16);
+  auto large = BuildOctree(40);
+  const std::string path = TempPath("keep.plod");
+  ASSERT_TRUE(Write(small, path));
+  const std::vector<char> before = ReadBytes(path);
+  // a disk that fills up half way through the new file
+  int result = 1;
+  const std::string message = WriteWithFileSizeLimit(large, path, 48 * 1024, &result);
+  EXPECT_EQ(result, 0);
+  EXPECT_NE(message.find("failed"), std::string::npos) << message;
+  EXPECT_NE(message.find("the existing file is unchanged"), std::string::npos) << message;
+  EXPECT_EQ(ReadBytes(path), before) << "the old file was touched by a failed save";
+  EXPECT_EQ(LeftoverTemporaries(path), 0);
+  ReadResult r = Read(path, true);
+  EXPECT_TRUE(r.Error.empty()) << r.Error;
+  ExpectIdentical(small, r.Octree, "after a failed overwrite");
+  // and a new file that cannot be finished is not made at all
+  const std::string fresh = TempPath("never.plod");
+  std::remove(fresh.c_str());
+  const std::string second = WriteWithFileSizeLimit(large, fresh, 48 * 1024, &result);
+  EXPECT_EQ(result, 0);
+  EXPECT_NE(second.find("no file was made"), std::string::npos) << second;
+  EXPECT_NE(::access(fresh.c_str(), F_OK), 0) << "a partial file was left";
+  EXPECT_EQ(LeftoverTemporaries(fresh), 0);
+  // a save that succeeds replaces the file and keeps its permissions
+  ASSERT_EQ(::chmod(path.c_str(), 0640), 0);
+  ASSERT_TRUE(Write(large, path));
+  struct stat st;
+  ASSERT_EQ(::stat(path.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0640u);
+  ExpectIdentical(large, Read(path).Octree, "after a good overwrite");
+  std::remove(path.c_str());
+}
+
+TEST(MultiscaleOctreeFile, TargetsThatAreNotRegularFilesAreRefusedAndKept)
+{
+  auto octree = BuildOctree(16);
+  vtkNew<vtkMultiscaleOctreeWriter> writer;
+  vtkNew<plodtest::ErrorRecorder> errors;
+  writer->AddObserver(vtkCommand::ErrorEvent, errors);
+  writer->SetInputData(octree);
+  // a FIFO (writing would wait for a reader), and a link to it
+  const std::string fifo = TempPath("target.fifo");
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string link = TempPath("fifo-link.plod");
+  std::remove(link.c_str());
+  ASSERT_EQ(::symlink(fifo.c_str(), link.c_str()), 0);
+  for (const std::string& target : { fifo, link })
+  {
+    writer->SetFileName(target.c_str());
+    EXPECT_EQ(writer->Write(), 0) << target;
+    EXPECT_NE(std::string(writer->GetErrorMessage()).find("is a FIFO"), std::string::npos)
+      << writer->GetErrorMessage();
+    EXPECT_TRUE(IsFifo(fifo)) << "the FIFO was replaced";
+  }
+  struct stat st;
+  ASSERT_EQ(::lstat(link.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISLNK(st.st_mode));
+  // a directory
+  const std::string dir = TempPath("target-dir");
+  ::mkdir(dir.c_str(), 0700);
+  writer->SetFileName(dir.c_str());
+  EXPECT_EQ(writer->Write(), 0);
+  EXPECT_NE(std::string(writer->GetErrorMessage()).find("is a directory"), std::string::npos)
+    << writer->GetErrorMessage();
+  ASSERT_EQ(::stat(dir.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISDIR(st.st_mode));
+  // a device node (made only where the test may: as root)
+  const std::string device = TempPath("target-null");
+  std::remove(device.c_str());
+  if (::mknod(device.c_str(), S_IFCHR | 0600, makedev(1, 3)) == 0)
+  {
+    writer->SetFileName(device.c_str());
+    EXPECT_EQ(writer->Write(), 0);
+    EXPECT_NE(
+      std::string(writer->GetErrorMessage()).find("is a character device"), std::string::npos)
+      << writer->GetErrorMessage();
+    ASSERT_EQ(::lstat(device.c_str(), &st), 0) << "the device node was deleted";
+    EXPECT_TRUE(S_ISCHR(st.st_mode));
+    std::remove(device.c_str());
+  }
+  EXPECT_EQ(LeftoverTemporaries(fifo), 0);
+  std::remove(link.c_str());
+  std::remove(fifo.c_str());
+  ::rmdir(dir.c_str());
+}
+
+TEST(MultiscaleOctreeFile, SymbolicLinkStaysALinkAndItsTargetIsReplaced)
+{
+  auto a = BuildOctree(16);
+  auto b = BuildOctree(24);
+  const std::string file = TempPath("linked.plod");
+  const std::string link = TempPath("link.plod");
+  ASSERT_TRUE(Write(a, file));
+  std::remove(link.c_str());
+  ASSERT_EQ(::symlink(file.c_str(), link.c_str()), 0);
+  ASSERT_TRUE(Write(b, link));
+  struct stat st;
+  ASSERT_EQ(::lstat(link.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISLNK(st.st_mode)) << "the link was replaced by a file";
+  ExpectIdentical(b, Read(file).Octree, "the link's target");
+  EXPECT_EQ(LeftoverTemporaries(file), 0);
+  std::remove(link.c_str());
+  std::remove(file.c_str());
+}
+
+TEST(MultiscaleOctreeFile, SavingOverAnOpenFileKeepsItsReadersDrawing)
+{
+  auto a = BuildOctree(16);
+  auto b = BuildOctree(40);
+  const std::string path = TempPath("open.plod");
+  ASSERT_TRUE(Write(a, path));
+  vtkNew<vtkMultiscaleOctreeReader> reader;
+  vtkNew<plodtest::ErrorRecorder> errors;
+  reader->SetFileName(path.c_str());
+  vtkNew<vtkPerceptualLODSelector> selector;
+  vtkNew<vtkMultiscalePatchGenerator> patches;
+  selector->SetInputConnection(reader->GetOutputPort());
+  patches->SetInputConnection(selector->GetOutputPort());
+  selector->SetViewportSize(640, 480);
+  for (vtkAlgorithm* alg : std::initializer_list<vtkAlgorithm*>{ reader, selector, patches })
+  {
+    alg->AddObserver(vtkCommand::ErrorEvent, errors);
+    alg->AddObserver(vtkCommand::WarningEvent, errors);
+  }
+  selector->SetEyePosition(0.3, 0.2, 3.0);
+  patches->Update();
+  ASSERT_TRUE(reader->GetMapped());
+  reader->GetOutput()->AddObserver(vtkCommand::WarningEvent, errors); // the octree warns
+  const vtkIdType drawnBefore = patches->GetOutput()->GetNumberOfPolys();
+  ASSERT_GT(drawnBefore, 0);
+  ASSERT_EQ(Draw(a, nullptr)->GetNumberOfPolys(), drawnBefore);
+  // another writer (here the same process) saves a different octree over the open file
+  ASSERT_TRUE(Write(b, path));
+  selector->SetEyePosition(0.3, 0.2, 3.0001); // the next frame
+  patches->Update();
+  EXPECT_TRUE(errors->Errors.empty()) << errors->Errors.front();
+  EXPECT_EQ(patches->GetOutput()->GetNumberOfPolys(), drawnBefore)
+    << "the open octree changed under its reader";
+  bool warned = false;
+  for (const std::string& w : errors->Warnings)
+  {
+    warned = warned || w.find("was replaced by another file") != std::string::npos;
+  }
+  EXPECT_TRUE(warned) << "no warning that the file was replaced";
+  EXPECT_EQ(errors->Warnings.size(), 1u) << "the replacement was reported more than once";
+  // the new file is read when asked
+  reader->Modified();
+  patches->Update();
+  EXPECT_TRUE(errors->Errors.empty());
+  EXPECT_EQ(patches->GetOutput()->GetNumberOfPolys(), Draw(b, nullptr)->GetNumberOfPolys());
+  std::remove(path.c_str());
+}
+
+TEST(MultiscaleOctreeFile, FileChangedInPlaceIsRefusedNotACrash)
+{
+  auto a = BuildOctree(24);
+  const std::string path = TempPath("inplace.plod");
+  ASSERT_TRUE(Write(a, path));
+  vtkNew<vtkMultiscaleOctreeReader> reader;
+  vtkNew<plodtest::ErrorRecorder> errors;
+  reader->SetFileName(path.c_str());
+  vtkNew<vtkPerceptualLODSelector> selector;
+  vtkNew<vtkMultiscalePatchGenerator> patches;
+  selector->SetInputConnection(reader->GetOutputPort());
+  patches->SetInputConnection(selector->GetOutputPort());
+  selector->AddObserver(vtkCommand::ErrorEvent, errors);
+  patches->AddObserver(vtkCommand::ErrorEvent, errors);
+  reader->AddObserver(vtkCommand::ErrorEvent, errors);
+  selector->SetViewportSize(640, 480);
+  selector->SetEyePosition(0.3, 0.2, 3.0);
+  patches->Update();
+  ASSERT_GT(patches->GetOutput()->GetNumberOfPolys(), 0);
+  ASSERT_TRUE(errors->Errors.empty());
+  // a program that truncates and rewrites the file where it lies: the mapped pages past the new
+  // end would fault (SIGBUS) if read
+  ASSERT_EQ(::truncate(path.c_str(), 4096), 0);
+  selector->SetEyePosition(0.3, 0.2, 3.0001);
+  patches->Update();
+  EXPECT_TRUE(errors->HasError("changed in place")) << "no error for a file changed in place";
+  EXPECT_EQ(patches->GetOutput()->GetNumberOfPolys(), 0);
+  // a writer refuses to save an octree whose mapped file changed
+  vtkNew<vtkMultiscaleOctreeWriter> writer;
+  writer->AddObserver(vtkCommand::ErrorEvent, errors);
+  writer->SetInputConnection(reader->GetOutputPort());
+  const std::string copy = TempPath("inplace-copy.plod");
+  writer->SetFileName(copy.c_str());
+  EXPECT_EQ(writer->Write(), 0);
+  EXPECT_NE(std::string(writer->GetErrorMessage()).find("changed in place"), std::string::npos)
+    << writer->GetErrorMessage();
+  // reading again says what the file now is
+  errors->Errors.clear();
+  reader->Modified();
+  patches->Update();
+  EXPECT_NE(std::string(reader->GetErrorMessage()).find("truncated"), std::string::npos)
+    << reader->GetErrorMessage();
+  std::remove(path.c_str());
+  std::remove(copy.c_str());
+}
+
+TEST(MultiscaleOctreeFile, FifoIsRefusedWithoutWaiting)
+{
+  // a FIFO with no writer: opening it to read would block forever (the alarm ends a hang)
+  const std::string fifo = TempPath("model.plod");
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  ::alarm(60);
+  EXPECT_FALSE(vtkMultiscaleOctreeReader::CanReadFile(fifo.c_str()));
+  ReadResult r = Read(fifo);
+  EXPECT_NE(r.Error.find("is a FIFO"), std::string::npos) << r.Error;
+  EXPECT_TRUE(r.Reported);
+  EXPECT_EQ(r.Octree->GetNumberOfNodes(), 0);
+  const std::string dir = TempPath("model-dir.plod");
+  ::mkdir(dir.c_str(), 0700);
+  r = Read(dir);
+  EXPECT_NE(r.Error.find("is a directory"), std::string::npos) << r.Error;
+  EXPECT_FALSE(vtkMultiscaleOctreeReader::CanReadFile(dir.c_str()));
+  ::alarm(0);
+  std::remove(fifo.c_str());
+  ::rmdir(dir.c_str());
 }

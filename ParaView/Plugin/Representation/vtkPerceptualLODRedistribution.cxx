@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <tuple>
 #include <vector>
 
 vtkStandardNewMacro(vtkPerceptualLODRedistribution);
@@ -476,12 +477,14 @@ int vtkPerceptualLODRedistribution::RequestData(
   }
   this->NumberOfHaloTriangles = halo;
 
-  // --- boundary edges of the whole mesh: an edge with an end this rank owns has all its
-  // triangles here (they all hold that end), so its use count is exact; summed over the ranks
-  // (an edge two ranks see is counted twice: only zero matters). The halo's own rim is never
-  // counted: its edges have both ends on other ranks.
+  // --- edges that forbid hiding back faces, over the whole mesh: boundary edges (used by one
+  // triangle) and misoriented ones (used by two triangles in the same direction). An edge with
+  // an end this rank owns has all its triangles here (they all hold that end), so its uses are
+  // exact; summed over the ranks (an edge two ranks see is counted twice: only zero matters).
+  // The halo's own rim is never counted: its edges have both ends on other ranks.
   {
-    std::vector<std::pair<vtkIdType, vtkIdType>> edges;
+    // (lower end, higher end, 1 when used from the higher end down)
+    std::vector<std::tuple<vtkIdType, vtkIdType, int>> edges;
     edges.reserve(3 * triangles.size());
     for (const auto& t : triangles)
     {
@@ -490,7 +493,7 @@ int vtkPerceptualLODRedistribution::RequestData(
         const vtkIdType a = t[e], b = t[(e + 1) % 3];
         if (!ghosts->GetValue(a) || !ghosts->GetValue(b))
         {
-          edges.emplace_back(std::min(a, b), std::max(a, b));
+          edges.emplace_back(std::min(a, b), std::max(a, b), a > b ? 1 : 0);
         }
       }
     }
@@ -499,11 +502,13 @@ int vtkPerceptualLODRedistribution::RequestData(
     for (size_t i = 0; i < edges.size();)
     {
       size_t j = i + 1;
-      while (j < edges.size() && edges[j] == edges[i])
+      while (j < edges.size() && std::get<0>(edges[j]) == std::get<0>(edges[i]) &&
+        std::get<1>(edges[j]) == std::get<1>(edges[i]))
       {
         ++j;
       }
-      boundary += (j - i == 1);
+      boundary +=
+        (j - i == 1) || (j - i == 2 && std::get<2>(edges[i]) == std::get<2>(edges[i + 1]));
       i = j;
     }
     long long globalBoundary = boundary;

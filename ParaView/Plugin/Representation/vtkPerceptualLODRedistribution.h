@@ -90,9 +90,11 @@ public:
   vtkGetMacro(NumberOfOwnedCells, int);
   vtkGetMacro(NumberOfHaloTriangles, vtkIdType);
   /**
-   * Edges of the whole mesh used by one triangle (an edge seen by two ranks counts twice; zero
-   * means the mesh is closed). Each rank's octree also has its halo's rim as boundary, so the
-   * selector's automatic back-face rule must use this number instead (the representation does).
+   * Edges of the whole mesh used by one triangle, or by two triangles in the same direction
+   * (inconsistently oriented); an edge seen by two ranks counts twice; zero means the mesh is
+   * closed and consistently oriented, so back faces can be hidden. Each rank's octree also has its
+   * halo's rim as boundary, so the selector's automatic back-face rule must use this number instead
+   * (the representation does).
    */
   vtkGetMacro(NumberOfBoundaryEdges, vtkIdType);
   ///@}

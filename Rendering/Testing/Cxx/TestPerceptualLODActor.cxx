@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // vtkPerceptualLODActor: ResetCamera() fits the whole model (mesh, cloud, octree, moved actor);
 // the image is the three-filter pipeline's with a binding, pixel for pixel; an octree input
-// skips the build; two renderers each get their own cut; a foreign mapper is refused.
+// skips the build; two renderers each get their own cut; a foreign mapper is refused; a
+// deleted renderer takes its binding away.
 #include "plodTestUtilities.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
+#include "vtkCellArray.h"
 #include "vtkCommand.h"
 #include "vtkImageData.h"
 #include "vtkMultiscaleOctree.h"
@@ -23,7 +25,10 @@
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+#include "vtkSphereSource.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkWeakPointer.h"
 #include "vtkWindowToImageFilter.h"
 
 #include <gtest/gtest.h>
@@ -281,4 +286,146 @@ TEST(PerceptualLODActor, ForeignMapperIsRefusedAndEmptyInputDrawsNothing)
   double b[6];
   actor->GetBounds(b);
   EXPECT_FALSE(b[0] <= b[1]) << "uninitialized bounds";
+}
+
+TEST(PerceptualLODActor, ADeletedRendererTakesItsBindingAway)
+{
+  // issue 24: each renderer the actor drew in stayed in its binding table after the renderer was
+  // gone. The binding (a renderer's motion history) now goes with its renderer, and the actor
+  // never keeps a renderer alive.
+  auto blob = plodtest::MakeBlob(5, 40, 0.3);
+  vtkNew<vtkPerceptualLODActor> actor;
+  actor->SetInputData(blob);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(160, 120);
+  EXPECT_EQ(actor->GetNumberOfBindings(), 0);
+  vtkNew<vtkRenderer> kept; // drawn in and alive to the end: its binding stays
+  window->AddRenderer(kept);
+  kept->AddActor(actor);
+  kept->ResetCamera();
+  kept->SetViewport(0, 0, 0.5, 1);
+  for (int i = 0; i < 3; ++i)
+  {
+    auto renderer = vtkSmartPointer<vtkRenderer>::New();
+    renderer->SetViewport(0.5, 0, 1, 1);
+    window->AddRenderer(renderer);
+    renderer->AddActor(actor);
+    renderer->ResetCamera();
+    window->Render();
+    EXPECT_EQ(actor->GetNumberOfBindings(), 2) << "one per renderer drawn in";
+    EXPECT_NE(actor->GetBinding(renderer), nullptr);
+    vtkWeakPointer<vtkRenderer> weak = renderer.Get();
+    window->RemoveRenderer(renderer);
+    renderer->RemoveActor(actor);
+    renderer = nullptr; // the last reference
+    EXPECT_EQ(weak.Get(), nullptr) << "the actor does not keep the renderer alive";
+    EXPECT_EQ(actor->GetNumberOfBindings(), 1) << "the deleted renderer's binding went with it";
+  }
+  EXPECT_NE(actor->GetBinding(kept), nullptr);
+  window->Render();
+  EXPECT_EQ(actor->GetNumberOfBindings(), 1);
+  EXPECT_GT(actor->GetPatchGenerator()->GetNumberOfTriangles(), 0) << "it still draws";
+
+  // MakeBinding without a render is dropped the same way
+  {
+    vtkNew<vtkRenderer> unused;
+    EXPECT_NE(actor->MakeBinding(unused), nullptr);
+    EXPECT_EQ(actor->GetNumberOfBindings(), 2);
+  }
+  EXPECT_EQ(actor->GetNumberOfBindings(), 1);
+
+  // an actor deleted before its renderer takes its observer away: the renderer's deletion
+  // later calls into nothing that is gone
+  vtkNew<vtkRenderer> outliving;
+  {
+    vtkNew<vtkPerceptualLODActor> brief;
+    brief->SetInputData(blob);
+    EXPECT_NE(brief->MakeBinding(outliving), nullptr);
+    EXPECT_TRUE(outliving->HasObserver(vtkCommand::DeleteEvent));
+  }
+  EXPECT_FALSE(outliving->HasObserver(vtkCommand::DeleteEvent));
+}
+
+namespace
+{
+/// A triangulated sphere with every other triangle's orientation reversed (a closed mesh whose
+/// triangles disagree on which side is the front, as scans often arrive).
+vtkSmartPointer<vtkPolyData> FlippedSphere(bool flip)
+{
+  vtkNew<vtkSphereSource> source;
+  source->SetThetaResolution(48);
+  source->SetPhiResolution(48);
+  source->Update();
+  auto sphere = vtkSmartPointer<vtkPolyData>::New();
+  sphere->DeepCopy(source->GetOutput());
+  sphere->GetPointData()->SetNormals(nullptr); // the normals must come from the triangles
+  vtkNew<vtkCellArray> polys;
+  vtkIdType n = 0;
+  const vtkIdType* ids = nullptr;
+  vtkCellArray* input = sphere->GetPolys();
+  input->InitTraversal();
+  for (vtkIdType k = 0; input->GetNextCell(n, ids); ++k)
+  {
+    if (flip && k % 2 == 1 && n == 3)
+      polys->InsertNextCell({ ids[2], ids[1], ids[0] });
+    else
+      polys->InsertNextCell(n, ids);
+  }
+  sphere->SetPolys(polys);
+  return sphere;
+}
+
+/// Pixels covered by `sphere` (those not of the background's colour), drawn by an actor seen
+/// from a fixed camera with the selector's back-face mode `mode`; whether it hid back faces.
+int CoveredPixelsOf(vtkPolyData* sphere, int mode, bool* hid, plodtest::ErrorRecorder* warnings)
+{
+  Scene s;
+  vtkNew<vtkPerceptualLODActor> actor;
+  actor->SetInputData(sphere);
+  actor->GetBuilder()->AddObserver(vtkCommand::WarningEvent, warnings);
+  if (mode >= 0)
+    actor->GetSelector()->SetBackFaceMode(mode);
+  s.Renderer->AddActor(actor);
+  s.Renderer->SetBackground(0.1, 0.6, 0.9); // a colour no shading of the sphere takes
+  s.Renderer->ResetCamera();
+  s.Renderer->GetActiveCamera()->Azimuth(20);
+  s.Renderer->GetActiveCamera()->Elevation(15);
+  s.Renderer->ResetCameraClippingRange();
+  const std::vector<unsigned char> image = s.Image();
+  int covered = 0;
+  for (size_t i = 0; i + 2 < image.size(); i += 3)
+    covered += (image[i] != image[0] || image[i + 1] != image[1] || image[i + 2] != image[2]);
+  *hid = actor->GetSelector()->GetHidBackFaces();
+  return covered;
+}
+}
+
+TEST(PerceptualLODActor, InconsistentlyOrientedClosedMeshHasNoSeeThroughHoles)
+{
+  vtkNew<plodtest::ErrorRecorder> warnings;
+  bool hid = true;
+  // the flipped sphere: the builder notices, and back faces are drawn
+  const auto flipped = FlippedSphere(true);
+  const int automatic =
+    CoveredPixelsOf(flipped, vtkPerceptualLODSelector::BACK_FACES_AUTOMATIC, &hid, warnings);
+  EXPECT_FALSE(hid) << "back faces hidden on an inconsistently oriented mesh";
+  bool warned = false;
+  for (const std::string& w : warnings->Warnings)
+    warned = warned || w.find("not consistently oriented") != std::string::npos;
+  EXPECT_TRUE(warned) << "no warning about the orientation";
+  const int drawn =
+    CoveredPixelsOf(flipped, vtkPerceptualLODSelector::BACK_FACES_DRAWN, &hid, warnings);
+  EXPECT_GT(drawn, 5000);
+  EXPECT_EQ(automatic, drawn) << "see-through holes: pixels missing against back faces drawn";
+  // hiding them would have opened holes (the case the automatic rule avoids)
+  const int hidden =
+    CoveredPixelsOf(flipped, vtkPerceptualLODSelector::BACK_FACES_HIDDEN, &hid, warnings);
+  EXPECT_LT(hidden, drawn);
+  // the consistent sphere still hides its back faces, with no warning
+  vtkNew<plodtest::ErrorRecorder> quiet;
+  CoveredPixelsOf(
+    FlippedSphere(false), vtkPerceptualLODSelector::BACK_FACES_AUTOMATIC, &hid, quiet);
+  EXPECT_TRUE(hid);
+  EXPECT_TRUE(quiet->Warnings.empty()) << quiet->Warnings.front();
 }
