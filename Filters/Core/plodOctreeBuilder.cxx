@@ -332,8 +332,9 @@ public:
   {
     return this->Scan() && this->PlaceRoot() && this->SortPoints() && this->ChooseLevel() &&
       this->MakeTree() && this->StoreSurface() && this->MakeIncidence() && this->ComputeNormals() &&
-      this->MakeEdges() && this->MakeClusters() && this->FindPassingTriangles() &&
-      this->ComputeCells() && this->TightenCones() && this->ComputeShapeErrors() && this->Finish();
+      this->MakeEdges() && this->NoteCoincidentPoints() && this->MakeClusters() &&
+      this->FindPassingTriangles() && this->ComputeCells() && this->TightenCones() &&
+      this->ComputeShapeErrors() && this->Finish();
   }
 
 private:
@@ -346,6 +347,7 @@ private:
   bool MakeIncidence();
   bool ComputeNormals();
   bool MakeEdges();
+  bool NoteCoincidentPoints();
   bool FindPassingTriangles();
   bool ComputeCells();
   bool ComputeShapeErrors();
@@ -1207,6 +1209,56 @@ bool MeshBuild::MakeEdges()
     {
       this->BoundaryQuadric.back().second.Add(pl.second);
     }
+  }
+  return this->Report(1.0);
+}
+
+bool MeshBuild::NoteCoincidentPoints()
+{
+  // points at one position lie in one leaf: compare each with the others of its leaf (a few, at
+  // the default level), sorting the leaves that hold many
+  const OctreeArrays& o = this->Out;
+  const int64_t first = this->Offset[this->L], last = this->Nodes;
+  std::vector<std::array<float, 3>> many;
+  int64_t coincident = 0;
+  for (int64_t leaf = first; leaf < last; ++leaf)
+  {
+    const int64_t b = o.FirstPoint[leaf];
+    const int64_t e = leaf + 1 < last ? o.FirstPoint[leaf + 1] : this->Points;
+    auto at = [&o](int64_t p) {
+      return std::array<float, 3>{ o.Points[3 * p], o.Points[3 * p + 1], o.Points[3 * p + 2] };
+    };
+    if (e - b <= 32)
+    {
+      for (int64_t p = b + 1; p < e; ++p)
+      {
+        for (int64_t q = b; q < p; ++q)
+        {
+          if (at(p) == at(q))
+          {
+            ++coincident;
+            break;
+          }
+        }
+      }
+      continue;
+    }
+    many.clear();
+    for (int64_t p = b; p < e; ++p)
+    {
+      many.push_back(at(p));
+    }
+    std::sort(many.begin(), many.end());
+    coincident += static_cast<int64_t>(many.end() - std::unique(many.begin(), many.end()));
+  }
+  this->R.NumberOfCoincidentPoints = coincident;
+  if (coincident > 0 && 10 * coincident > this->Points)
+  {
+    this->R.Warnings.push_back(std::to_string(coincident) + " of " + std::to_string(this->Points) +
+      " surface points repeat the position of another point: the triangles meeting there do not "
+      "share their vertices (a mesh split along texture or normal seams, or an STL file), so the "
+      "LOD cannot merge across those seams and simplifies little; merge coincident points first "
+      "(vtkCleanPolyData or vtkStaticCleanPolyData)");
   }
   return this->Report(1.0);
 }

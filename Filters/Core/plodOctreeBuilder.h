@@ -220,6 +220,9 @@ struct BuildResult
   /// Edges used by two triangles in the same direction: the triangles disagree on which side is
   /// the front (an inconsistently oriented mesh), so back faces cannot be hidden.
   int64_t NumberOfMisorientedEdges = 0;
+  /// Surface points at the position of another surface point (a mesh whose triangles do not
+  /// share their vertices there); more than a tenth of the points gives a warning.
+  int64_t NumberOfCoincidentPoints = 0;
   int64_t NumberOfGhostPoints = 0; // surface points flagged as ghosts
   double EstimatedBytes = 0;       // estimated peak of the build's own memory
 };

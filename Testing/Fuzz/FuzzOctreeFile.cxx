@@ -14,14 +14,19 @@
  *   byte 2: flags. bit 0: recompute the header checksum and size after the damage (so that
  *           the damage reaches the arrays and the validation); bit 1: verify the arrays'
  *           checksums; bit 2: read into memory instead of mapping; bit 3: truncate at the
- *           position of the first edit
+ *           position of the first edit; bit 4: once opened, save the undamaged octree over
+ *           the open file (plod::WriteOctreeFile); bit 5: once opened, truncate the open file
+ *           in place to half its size
  *   then edits of 5 bytes: a position (uint32 little-endian, modulo the file size) and a byte
  *           to XOR there (0 sets the byte to 0xff)
  *
  * Checked: OpenOctreeFile never crashes, and when it accepts the file every array lies inside
  * its memory (every byte is read); when the arrays make a view that ValidateOctree accepts,
  * uniform cuts and the full cut pass ValidateCut and GeneratePatches returns in-range output,
- * and the selector's cut passes ValidateCut. The undamaged file reads back bit for bit.
+ * and the selector's cut passes ValidateCut. The undamaged file reads back bit for bit. A save
+ * over the open file leaves what it mapped byte for byte as it was and is reported as a
+ * replacement (CompareFileIdentity); a truncation in place is reported as a change in place
+ * (after which the arrays are not read: their pages may be gone).
  * PLOD_FUZZ_VERBOSE=1 names the array and value each edit damages.
  */
 #include "plodCut.h"
@@ -218,6 +223,36 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   }
   plod::OctreeFile file;
   const bool opened = plod::OpenOctreeFile(path, flags & 2, !(flags & 4), file, &why);
+  if (opened && (flags & 16))
+  {
+    // a save over the open file replaces it by a rename: the opened bytes stay as they were
+    auto arrayBytes = [&file]() {
+      std::vector<unsigned char> all;
+      for (const plod::FileArray& f : file.Arrays)
+      {
+        const size_t n = size_t(f.Tuples) * f.Components * plod::FileTypeSize(f.Type);
+        const unsigned char* p = static_cast<const unsigned char*>(f.Data);
+        all.insert(all.end(), p, p + n);
+      }
+      return all;
+    };
+    const std::vector<unsigned char> before = arrayBytes();
+    CHECK(plod::WriteOctreeFile(path, header, written, &why), why);
+    std::string change;
+    CHECK(plod::CompareFileIdentity(file.Identity, &change) == plod::FileChange::Replaced,
+      "a save over an open file is not seen as a replacement: " + change);
+    CHECK(arrayBytes() == before, "a save changed the bytes of the open file");
+  }
+  else if (opened && (flags & 32))
+  {
+    // a program truncates the open file where it lies: noticed before any page is read
+    CHECK(::truncate(path.c_str(), static_cast<off_t>(bytes.size() / 2)) == 0, "truncate");
+    std::string change;
+    CHECK(plod::CompareFileIdentity(file.Identity, &change) == plod::FileChange::ChangedInPlace,
+      "a truncation in place is not seen: " + change);
+    std::remove(path.c_str());
+    return 0;
+  }
   std::remove(path.c_str());
   if (!opened)
   {

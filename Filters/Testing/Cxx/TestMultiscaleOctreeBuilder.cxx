@@ -1878,3 +1878,46 @@ TEST(MultiscaleOctreeBuilder, NonPolyDataCellsAreTakenAndIgnoredCellsNamed)
   EXPECT_NE(second->Warnings[0].find("0 vertex and 2 line cells are ignored"), std::string::npos)
     << second->Warnings[0];
 }
+
+// A mesh whose triangles share no vertices (an STL, an OBJ split by texture seams) is said to
+// be one, with the count of points that repeat another's position.
+TEST(MultiscaleOctreeBuilder, UnsharedVerticesAreNamed)
+{
+  auto cube = plodtest::MakeDeformedBox(4, 4, 4, [](const double p[3], double x[3]) {
+    for (int a = 0; a < 3; ++a)
+      x[a] = p[a];
+  });
+  ASSERT_EQ(cube->GetNumberOfPoints(), 5 * 5 * 5 - 3 * 3 * 3);
+  // every triangle with three points of its own
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> polys;
+  vtkIdType n = 0;
+  const vtkIdType* ids = nullptr;
+  cube->GetPolys()->InitTraversal();
+  while (cube->GetPolys()->GetNextCell(n, ids))
+  {
+    vtkIdType own[3];
+    for (int k = 0; k < 3; ++k)
+      own[k] = points->InsertNextPoint(cube->GetPoint(ids[k]));
+    polys->InsertNextCell(3, own);
+  }
+  vtkNew<vtkPolyData> soup;
+  soup->SetPoints(points);
+  soup->SetPolys(polys);
+  const vtkIdType total = 3 * cube->GetNumberOfPolys();
+  for (vtkPolyData* mesh : { static_cast<vtkPolyData*>(soup), cube.GetPointer() })
+  {
+    vtkNew<plodtest::ErrorRecorder> warnings;
+    vtkNew<vtkMultiscaleOctreeBuilder> builder;
+    builder->AddObserver(vtkCommand::WarningEvent, warnings);
+    builder->SetInputData(mesh);
+    builder->SetFinestLevel(3);
+    builder->Update();
+    bool named = false;
+    for (const std::string& w : warnings->Warnings)
+      named = named ||
+        w.find(std::to_string(total - cube->GetNumberOfPoints()) + " of " + std::to_string(total) +
+          " surface points repeat the position of another point") != std::string::npos;
+    EXPECT_EQ(named, mesh == soup.GetPointer()) << (mesh == soup.GetPointer() ? "soup" : "cube");
+  }
+}
