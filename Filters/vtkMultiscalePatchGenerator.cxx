@@ -15,12 +15,14 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSMPTools.h"
 #include "vtkTimerLog.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 vtkStandardNewMacro(vtkMultiscalePatchGenerator);
@@ -128,6 +130,13 @@ int vtkMultiscalePatchGenerator::RequestData(
       options.Parallel = view->GetComponent(3, 0) != 0;
     }
   }
+  if (this->MultiThreaded && vtkSMPTools::GetEstimatedNumberOfThreads() > 1)
+  {
+    options.For = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
+      vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+        [&body](vtkIdType b, vtkIdType e) { body(b, e); });
+    };
+  }
   if (!plod::GeneratePatches(v, state, cullMask, r, &why, &this->Internal->Workspace, options))
   {
     vtkErrorMacro("Invalid cut: " << why << ". Empty output.");
@@ -143,14 +152,37 @@ int vtkMultiscalePatchGenerator::RequestData(
   auto position = [&v](int64_t source) {
     return source >= 0 ? &v.ClusterVertex[3 * source] : &v.Points[3 * (-1 - source)];
   };
+  // ranges of output points, filled in parallel (each value depends on its source alone)
+  auto forPoints = [this, np](const std::function<void(vtkIdType, vtkIdType)>& fill) {
+    if (this->MultiThreaded)
+    {
+      vtkSMPTools::For(0, np, 65536, fill);
+    }
+    else
+    {
+      fill(0, np);
+    }
+  };
   vtkNew<vtkPoints> points;
-  points->SetDataType(far > 100.0 * v.RootEdge ? VTK_DOUBLE : VTK_FLOAT);
+  const bool doublePoints = far > 100.0 * v.RootEdge;
+  points->SetDataType(doublePoints ? VTK_DOUBLE : VTK_FLOAT);
   points->SetNumberOfPoints(np);
-  for (vtkIdType i = 0; i < np; ++i)
-  {
-    const float* x = position(r.PointSource[i]);
-    points->SetPoint(i, v.Origin[0] + x[0], v.Origin[1] + x[1], v.Origin[2] + x[2]);
-  }
+  void* xyz = np > 0 ? points->GetData()->GetVoidPointer(0) : nullptr;
+  forPoints([&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
+    {
+      const float* x = position(r.PointSource[i]);
+      for (int a = 0; a < 3; ++a)
+      {
+        // as vtkPoints::SetPoint stores it: the double sum, then the array's type
+        const double w = v.Origin[a] + x[a];
+        if (doublePoints)
+          static_cast<double*>(xyz)[3 * i + a] = w;
+        else
+          static_cast<float*>(xyz)[3 * i + a] = static_cast<float>(w);
+      }
+    }
+  });
   output->SetPoints(points);
 
   vtkNew<vtkIdTypeArray> offsets, connectivity;
@@ -177,11 +209,13 @@ int vtkMultiscalePatchGenerator::RequestData(
     normals->SetNumberOfComponents(3);
     normals->SetNumberOfTuples(np);
     float* n = normals->GetPointer(0);
-    for (vtkIdType i = 0; i < np; ++i)
-    {
-      const int64_t s = r.PointSource[i];
-      std::copy_n(s >= 0 ? &v.ClusterNormal[3 * s] : &v.Normals[3 * (-1 - s)], 3, n + 3 * i);
-    }
+    forPoints([&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType i = b; i < e; ++i)
+      {
+        const int64_t s = r.PointSource[i];
+        std::copy_n(s >= 0 ? &v.ClusterNormal[3 * s] : &v.Normals[3 * (-1 - s)], 3, n + 3 * i);
+      }
+    });
     for (const int32_t i : r.ReversedNormals)
     {
       for (int a = 0; a < 3; ++a)
@@ -267,6 +301,7 @@ void vtkMultiscalePatchGenerator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FoldHandling: " << this->GetFoldHandlingAsString() << "\n";
   os << indent << "NumberOfFolds: " << this->NumberOfFolds << "\n";
   os << indent << "CullBackFaces: " << (this->CullBackFaces ? "On" : "Off") << "\n";
+  os << indent << "MultiThreaded: " << (this->MultiThreaded ? "On" : "Off") << "\n";
   os << indent << "NumberOfCulledBackFaces: " << this->NumberOfCulledBackFaces << "\n";
   os << indent << "NumberOfGhostTriangles: " << this->NumberOfGhostTriangles << "\n";
   os << indent << "GenerateTime: " << this->GenerateTime << " s\n";

@@ -142,6 +142,17 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Run the patches' two parallel phases with vtkSMPTools: each owned triangle's corners are
+   * looked up in ranges of the cut, and the output's points and normals are filled in ranges.
+   * The output is the same, point for point, on any number of threads. Default on.
+   */
+  vtkSetMacro(MultiThreaded, bool);
+  vtkGetMacro(MultiThreaded, bool);
+  vtkBooleanMacro(MultiThreaded, bool);
+  ///@}
+
+  ///@{
   /// Figures of the last execution.
   vtkGetMacro(NumberOfTriangles, vtkIdType);
   vtkGetMacro(NumberOfOutputPoints, vtkIdType);
@@ -169,6 +180,7 @@ protected:
   bool GenerateInputPointIds;
   int FoldHandling;
   bool CullBackFaces;
+  bool MultiThreaded = true;
   vtkIdType NumberOfFolds;
   vtkIdType NumberOfCulledBackFaces;
   vtkIdType NumberOfGhostTriangles;

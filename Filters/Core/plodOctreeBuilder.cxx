@@ -25,15 +25,6 @@
 namespace plod
 {
 
-void SerialFor(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body)
-{
-  grain = std::max<int64_t>(1, grain);
-  for (int64_t b = 0; b < n; b += grain)
-  {
-    body(b, std::min(n, b + grain));
-  }
-}
-
 double EstimateBuildMemory(int64_t points, int64_t triangles, int64_t nodes, bool cloud)
 {
   // outputs: the schema's arrays (plodOctreeSchema.h), with one cluster per node (a lower

@@ -80,6 +80,7 @@
 #define plodOctreeBuilder_h
 
 #include "plodOctree.h"
+#include "plodParallel.h"
 
 #include <cstdint>
 #include <functional>
@@ -166,13 +167,6 @@ struct BuildParameters
   double RootOrigin[3] = { 0, 0, 0 };
   double RootEdge = 0;
 };
-
-/// Runs `body(begin, end)` over [0, n) split in ranges of at most `grain`, possibly in parallel.
-using ParallelFor =
-  std::function<void(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body)>;
-
-/// Sequential ParallelFor, for tests and for the single-threaded benchmark.
-void SerialFor(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body);
 
 /**
  * Makes the arrays to fill: `Nodes` receives the node, point and triangle counts and returns the

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cassert>
+#include <limits>
+#include <utility>
 
 namespace plod
 {
@@ -64,6 +66,393 @@ struct Drawn
     return this->F[0] * d[0] + this->F[1] * d[1] + this->F[2] * d[2] < 0;
   }
 };
+
+using Decision = PatchDecision;
+
+/// Decides the owned triangles of a cut (read-only: any number of them run at once).
+class TriangleJudge
+{
+public:
+  TriangleJudge(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
+    const uint8_t* reached, const PatchOptions& options)
+    : V(v)
+    , State(state)
+    , CullMask(cullMask)
+    , Reached(reached)
+    , Options(options)
+  {
+  }
+
+  /// Triangle `t`'s fate; on Failed, `error` (if empty) receives why.
+  Decision Decide(int64_t t, std::string& error) const
+  {
+    const OctreeView& v = this->V;
+    Decision d;
+    const int32_t* c = &v.Triangles[3 * t];
+    if (v.PointGhost)
+    {
+      // another process draws it: the owner of its lead corner (an index out of range is left
+      // to the representative lookup, which reports it)
+      const int32_t lead = std::min({ c[0], c[1], c[2] });
+      if (lead >= 0 && lead < v.NumberOfPoints && v.PointGhost[lead] != 0)
+      {
+        d.What = Decision::Ghost;
+        return d;
+      }
+    }
+    int64_t rep[3];
+    bool drawn = false, backFacing = false;
+    uint8_t masks = 0x3f;
+    for (int k = 0; k < 3; ++k)
+    {
+      bool shown = false, back = false;
+      uint8_t m = 0;
+      rep[k] = this->Representative(c[k], shown, m, back, error);
+      if (rep[k] == Invalid)
+      {
+        d.What = Decision::Failed;
+        return d;
+      }
+      drawn = drawn || shown;
+      backFacing = backFacing || back;
+      if (!shown)
+      {
+        masks &= m;
+      }
+      d.Rep[k] = static_cast<int32_t>(rep[k]);
+    }
+    if (rep[0] == rep[1] || rep[1] == rep[2] || rep[0] == rep[2])
+    {
+      d.What = Decision::Collapsed; // only with an inconsistent owner; never for a valid octree
+      return d;
+    }
+    if (!drawn && (backFacing || masks != 0))
+    {
+      d.What = Decision::Hidden;
+      return d;
+    }
+    const PatchOptions& o = this->Options;
+    if (o.Folds != FoldHandling::Keep || o.CullBackFaces)
+    {
+      const Drawn tri(v, rep);
+      const bool fold = o.Folds != FoldHandling::Keep &&
+        (rep[0] >= 0 || rep[1] >= 0 || rep[2] >= 0) && tri.TurnedOver();
+      if (fold && o.Folds == FoldHandling::Drop)
+      {
+        d.What = Decision::FoldDropped;
+      }
+      else if (o.CullBackFaces && tri.FacesAway(o))
+      {
+        d.What = Decision::BackFace;
+      }
+      else if (fold)
+      {
+        d.What = Decision::DrawFold;
+      }
+    }
+    return d;
+  }
+
+private:
+  static constexpr int64_t Invalid = std::numeric_limits<int64_t>::min();
+
+  static void Fail(std::string& error, const std::string& text)
+  {
+    if (error.empty())
+    {
+      error = text;
+    }
+  }
+
+  /// The representative of surface point p: the cluster holding it in its cut ancestor-or-self,
+  /// or -1 - p in an opened leaf; Invalid (and `error`) on a broken index or cut. Every index
+  /// followed is checked: arrays edited after validation cannot make it read out of bounds or
+  /// loop.
+  int64_t Representative(
+    int32_t p, bool& drawn, uint8_t& mask, bool& backFacing, std::string& error) const
+  {
+    const OctreeView& v = this->V;
+    if (p < 0 || p >= v.NumberOfPoints)
+    {
+      Fail(error, "a triangle refers to point " + std::to_string(p) + ", outside the surface");
+      return Invalid;
+    }
+    int64_t c = v.PointCluster[p];
+    int64_t n = c >= 0 && c < v.NumberOfClusters ? v.ClusterNode[c] : -1;
+    while (n >= 0 && n < v.NumberOfNodes && this->State[n] == NotInCut)
+    {
+      const int64_t parent = v.ClusterParent[c];
+      if (parent < 0 || parent >= c)
+      {
+        Fail(error, "surface point " + std::to_string(p) + " has no ancestor in the cut");
+        return Invalid;
+      }
+      c = parent;
+      n = v.ClusterNode[c];
+    }
+    if (n < 0 || n >= v.NumberOfNodes)
+    {
+      Fail(error, "surface point " + std::to_string(p) + " has a cluster outside the arrays");
+      return Invalid;
+    }
+    if (!this->Reached[n])
+    {
+      Fail(error, "node " + std::to_string(n) + " is in the cut below another cut node");
+      return Invalid;
+    }
+    const uint8_t s = this->State[n];
+    drawn = IsDrawnState(s);
+    if (s == CutHidden)
+    {
+      mask = this->CullMask ? this->CullMask[n] : 0;
+      backFacing = !this->CullMask || this->CullMask[n] == 0;
+    }
+    return s == CutOpen ? -1 - int64_t(p) : c;
+  }
+
+  const OctreeView& V;
+  const uint8_t* State;
+  const uint8_t* CullMask;
+  const uint8_t* Reached;
+  const PatchOptions& Options;
+};
+
+/// Walks the nodes above the cut from the root: marks the cut nodes reached, lists the nodes
+/// whose owned triangles are drawn (refined nodes and opened leaves). False (and `error`) on an
+/// invalid cut.
+bool WalkAboveTheCut(const OctreeView& v, const uint8_t* state, PatchWorkspace& ws,
+  PatchResult& out, std::string& error)
+{
+  std::vector<int32_t>& stack = ws.Stack;
+  stack.clear();
+  stack.push_back(0);
+  std::vector<int32_t>& refined = ws.Refined;
+  refined.clear();
+  while (!stack.empty())
+  {
+    const int32_t n = stack.back();
+    stack.pop_back();
+    ++out.NodesVisited;
+    const uint8_t s = state[n];
+    if (s > CutOpen)
+    {
+      error = "node " + std::to_string(n) + " has cut state " + std::to_string(int(s)) +
+        " (valid states are 0 to 3)";
+      return false;
+    }
+    if (s != NotInCut)
+    {
+      if (s == CutOpen && !v.IsLeaf(n))
+      {
+        error = "node " + std::to_string(n) + " is opened but is not a leaf";
+        return false;
+      }
+      ws.Reached[n] = 1;
+      ws.Touched.push_back(n);
+      if (s == CutOpen)
+      {
+        refined.push_back(n);
+      }
+      continue;
+    }
+    if (v.IsLeaf(n))
+    {
+      error = "leaf " + std::to_string(n) + " has no ancestor in the cut";
+      return false;
+    }
+    refined.push_back(n);
+    const int count = __builtin_popcount(v.ChildMask[n]);
+    const int32_t first = v.FirstChild[n];
+    if (first <= n || first + count > v.NumberOfNodes)
+    {
+      error = "node " + std::to_string(n) + " has children outside the node arrays";
+      return false;
+    }
+    for (int c = count - 1; c >= 0; --c)
+    {
+      stack.push_back(first + c);
+    }
+  }
+  return true;
+}
+
+/// Assigns output points and writes the drawn triangles, in the order of the decisions (the
+/// serial phase: output point numbers follow first use).
+class PatchEmitter
+{
+public:
+  PatchEmitter(const OctreeView& v, PatchWorkspace& ws, PatchResult& out)
+    : V(v)
+    , Ws(ws)
+    , Out(out)
+  {
+  }
+
+  /// Counts `d` and, when drawn, writes it; false (and `error`) on a broken leaf index.
+  bool Emit(const Decision& d, std::string& error)
+  {
+    switch (d.What)
+    {
+      case Decision::Draw:
+        for (int k = 0; k < 3; ++k)
+        {
+          const int64_t id = this->OutputPoint(d.Rep[k], error);
+          if (id < 0)
+          {
+            return false;
+          }
+          this->Out.Triangles.push_back(id);
+        }
+        return true;
+      case Decision::DrawFold:
+        // its own corners, at the same places, with reversed normals
+        ++this->Out.Folds;
+        for (int k = 0; k < 3; ++k)
+        {
+          const int64_t id = static_cast<int64_t>(this->Out.PointSource.size());
+          this->Out.ReversedNormals.push_back(static_cast<int32_t>(id));
+          this->Out.Triangles.push_back(id);
+          this->Out.PointSource.push_back(d.Rep[k]);
+        }
+        return true;
+      case Decision::Ghost:
+        ++this->Out.GhostSkipped;
+        return true;
+      case Decision::Hidden:
+        ++this->Out.HiddenSkipped;
+        return true;
+      case Decision::FoldDropped:
+        ++this->Out.Folds;
+        return true;
+      case Decision::BackFace:
+        ++this->Out.BackFacesCulled;
+        return true;
+      case Decision::Collapsed:
+        return true;
+      case Decision::Failed:
+        return false;
+    }
+    return false;
+  }
+
+private:
+  /// The output point of representative `rep`; -1 (and `error`) on a broken leaf index.
+  int64_t OutputPoint(int64_t rep, std::string& error)
+  {
+    const OctreeView& v = this->V;
+    PatchResult& out = this->Out;
+    if (rep >= 0)
+    {
+      int32_t& id = this->Ws.OutputOf[rep];
+      if (id < 0)
+      {
+        id = static_cast<int32_t>(out.PointSource.size());
+        out.PointSource.push_back(rep);
+        this->Ws.TouchedClusters.push_back(static_cast<int32_t>(rep));
+      }
+      return id;
+    }
+    // an opened leaf's points get a block of outputs, keyed by the leaf's first cluster
+    const int64_t p = -1 - rep;
+    const int32_t leaf = v.PointLeaf[p];
+    if (leaf < 0 || leaf >= v.NumberOfNodes || v.FirstCluster[leaf] < 0 ||
+      v.FirstCluster[leaf] >= v.NumberOfClusters || v.FirstPoint[leaf] > p ||
+      v.PointEnd(leaf) > v.NumberOfPoints)
+    {
+      if (error.empty())
+      {
+        error = "surface point " + std::to_string(p) + " has a leaf outside the arrays";
+      }
+      return -1;
+    }
+    int32_t& base = this->Ws.OutputOf[v.FirstCluster[leaf]];
+    if (base < 0)
+    {
+      base = static_cast<int32_t>(out.PointSource.size());
+      for (int64_t q = v.FirstPoint[leaf], end = v.PointEnd(leaf); q < end; ++q)
+      {
+        out.PointSource.push_back(-1 - q);
+      }
+      this->Ws.TouchedClusters.push_back(v.FirstCluster[leaf]);
+    }
+    return base + (p - v.FirstPoint[leaf]);
+  }
+
+  const OctreeView& V;
+  PatchWorkspace& Ws;
+  PatchResult& Out;
+};
+
+/// The range of triangles `node` owns, clamped to the arrays.
+std::pair<int64_t, int64_t> OwnedTriangles(const OctreeView& v, int64_t node)
+{
+  return { std::max<int64_t>(0, v.FirstTriangle[node]),
+    std::min<int64_t>(v.NumberOfTriangles, v.TriangleEnd(node)) };
+}
+
+/// The owned triangles of the refined nodes decided in ranges that may run in parallel (each
+/// range's decisions kept in order), then emitted in order: the same output as one pass.
+bool DecideInParallel(const OctreeView& v, const TriangleJudge& judge, PatchWorkspace& ws,
+  PatchEmitter& emit, const PatchOptions& options, std::string& error)
+{
+  const std::vector<int32_t>& refined = ws.Refined;
+  // ranges of refined nodes holding about the same number of triangles
+  const size_t perRange = static_cast<size_t>(std::max<int64_t>(1, options.TrianglesPerRange));
+  std::vector<size_t>& bounds = ws.RangeBounds;
+  bounds.assign(1, 0);
+  for (size_t i = 0, sum = 0; i < refined.size(); ++i)
+  {
+    const auto r = OwnedTriangles(v, refined[i]);
+    sum += static_cast<size_t>(std::max<int64_t>(0, r.second - r.first));
+    if (sum >= perRange || i + 1 == refined.size())
+    {
+      bounds.push_back(i + 1);
+      sum = 0;
+    }
+  }
+  const int64_t ranges = static_cast<int64_t>(bounds.size()) - 1;
+  if (static_cast<int64_t>(ws.Decisions.size()) < ranges)
+  {
+    ws.Decisions.resize(static_cast<size_t>(ranges));
+    ws.RangeErrors.resize(static_cast<size_t>(ranges));
+  }
+  options.For(ranges, 1, [&](int64_t begin, int64_t end) {
+    for (int64_t r = begin; r < end; ++r)
+    {
+      std::vector<Decision>& decided = ws.Decisions[r];
+      std::string& rangeError = ws.RangeErrors[r];
+      decided.clear();
+      rangeError.clear();
+      for (size_t i = bounds[r]; i < bounds[r + 1] && rangeError.empty(); ++i)
+      {
+        const auto owned = OwnedTriangles(v, refined[i]);
+        for (int64_t t = owned.first; t < owned.second; ++t)
+        {
+          decided.push_back(judge.Decide(t, rangeError));
+          if (decided.back().What == Decision::Failed)
+          {
+            break;
+          }
+        }
+      }
+    }
+  });
+  for (int64_t r = 0; r < ranges; ++r)
+  {
+    for (const Decision& d : ws.Decisions[r])
+    {
+      if (!emit.Emit(d, error))
+      {
+        if (error.empty())
+        {
+          error = ws.RangeErrors[r];
+        }
+        return false;
+      }
+    }
+  }
+  return true;
+}
 }
 
 bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
@@ -92,226 +481,28 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
     ws.TouchedClusters.clear();
   }
   std::string error;
-  auto fail = [&error](const std::string& text) {
-    if (error.empty())
-    {
-      error = text;
-    }
-  };
-
-  // the representative of surface point p: the cluster holding it in its cut ancestor-or-self,
-  // or p itself in an opened leaf
-  // (every index followed is checked: arrays edited after validation cannot make it read out
-  // of bounds or loop)
-  auto representative = [&](int32_t p, bool& drawn, uint8_t& mask, bool& backFacing) -> int64_t {
-    if (p < 0 || p >= v.NumberOfPoints)
-    {
-      fail("a triangle refers to point " + std::to_string(p) + ", outside the surface");
-      return -1;
-    }
-    int64_t c = v.PointCluster[p];
-    int64_t n = c >= 0 && c < v.NumberOfClusters ? v.ClusterNode[c] : -1;
-    while (n >= 0 && n < v.NumberOfNodes && state[n] == NotInCut)
-    {
-      const int64_t parent = v.ClusterParent[c];
-      if (parent < 0 || parent >= c)
-      {
-        fail("surface point " + std::to_string(p) + " has no ancestor in the cut");
-        return -1;
-      }
-      c = parent;
-      n = v.ClusterNode[c];
-    }
-    if (n < 0 || n >= v.NumberOfNodes)
-    {
-      fail("surface point " + std::to_string(p) + " has a cluster outside the arrays");
-      return -1;
-    }
-    if (!ws.Reached[n])
-    {
-      fail("node " + std::to_string(n) + " is in the cut below another cut node");
-      return -1;
-    }
-    const uint8_t s = state[n];
-    drawn = IsDrawnState(s);
-    if (s == CutHidden)
-    {
-      mask = cullMask ? cullMask[n] : 0;
-      backFacing = !cullMask || cullMask[n] == 0;
-    }
-    return s == CutOpen ? -1 - int64_t(p) : c;
-  };
-  auto outputPoint = [&](int64_t rep) -> int64_t {
-    if (rep >= 0)
-    {
-      int32_t& id = ws.OutputOf[rep];
-      if (id < 0)
-      {
-        id = static_cast<int32_t>(out.PointSource.size());
-        out.PointSource.push_back(rep);
-        ws.TouchedClusters.push_back(static_cast<int32_t>(rep));
-      }
-      return id;
-    }
-    // an opened leaf's points get a block of outputs, keyed by the leaf's first cluster
-    const int64_t p = -1 - rep;
-    const int32_t leaf = v.PointLeaf[p];
-    if (leaf < 0 || leaf >= v.NumberOfNodes || v.FirstCluster[leaf] < 0 ||
-      v.FirstCluster[leaf] >= v.NumberOfClusters || v.FirstPoint[leaf] > p ||
-      v.PointEnd(leaf) > v.NumberOfPoints)
-    {
-      fail("surface point " + std::to_string(p) + " has a leaf outside the arrays");
-      return int64_t(0);
-    }
-    int32_t& base = ws.OutputOf[v.FirstCluster[leaf]];
-    if (base < 0)
-    {
-      base = static_cast<int32_t>(out.PointSource.size());
-      for (int64_t q = v.FirstPoint[leaf], end = v.PointEnd(leaf); q < end; ++q)
-      {
-        out.PointSource.push_back(-1 - q);
-      }
-      ws.TouchedClusters.push_back(v.FirstCluster[leaf]);
-    }
-    return base + (p - v.FirstPoint[leaf]);
-  };
-  auto emitOwned = [&](int64_t node) {
-    const int64_t begin = std::max<int64_t>(0, v.FirstTriangle[node]);
-    const int64_t end = std::min<int64_t>(v.NumberOfTriangles, v.TriangleEnd(node));
-    for (int64_t t = begin; t < end; ++t)
-    {
-      const int32_t* c = &v.Triangles[3 * t];
-      if (v.PointGhost)
-      {
-        // another process draws it: the owner of its lead corner (an index out of range is
-        // left to the representative lookup, which reports it)
-        const int32_t lead = std::min({ c[0], c[1], c[2] });
-        if (lead >= 0 && lead < v.NumberOfPoints && v.PointGhost[lead] != 0)
-        {
-          ++out.GhostSkipped;
-          continue;
-        }
-      }
-      int64_t rep[3];
-      bool drawn = false, backFacing = false;
-      uint8_t masks = 0x3f;
-      for (int k = 0; k < 3; ++k)
-      {
-        bool d = false, back = false;
-        uint8_t m = 0;
-        rep[k] = representative(c[k], d, m, back);
-        drawn = drawn || d;
-        backFacing = backFacing || back;
-        if (!d)
-        {
-          masks &= m;
-        }
-      }
-      if (!error.empty())
-      {
-        return;
-      }
-      if (rep[0] == rep[1] || rep[1] == rep[2] || rep[0] == rep[2])
-      {
-        continue; // collapsed (only with an inconsistent owner; never for a valid octree)
-      }
-      if (!drawn && (backFacing || masks != 0))
-      {
-        ++out.HiddenSkipped;
-        continue;
-      }
-      if (options.Folds != FoldHandling::Keep || options.CullBackFaces)
-      {
-        const Drawn tri(v, rep);
-        const bool fold = options.Folds != FoldHandling::Keep &&
-          (rep[0] >= 0 || rep[1] >= 0 || rep[2] >= 0) && tri.TurnedOver();
-        if (fold && options.Folds == FoldHandling::Drop)
-        {
-          ++out.Folds;
-          continue;
-        }
-        if (options.CullBackFaces && tri.FacesAway(options))
-        {
-          ++out.BackFacesCulled;
-          continue;
-        }
-        if (fold)
-        {
-          // its own corners, at the same places, with reversed normals
-          ++out.Folds;
-          for (int k = 0; k < 3; ++k)
-          {
-            const int64_t id = static_cast<int64_t>(out.PointSource.size());
-            out.ReversedNormals.push_back(static_cast<int32_t>(id));
-            out.Triangles.push_back(id);
-            out.PointSource.push_back(rep[k]);
-          }
-          continue;
-        }
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        out.Triangles.push_back(outputPoint(rep[k]));
-      }
-    }
-  };
-
-  // the walk: refined nodes emit their triangles; cut nodes are marked as reached
-  std::vector<int32_t>& stack = ws.Stack;
-  stack.clear();
-  stack.push_back(0);
-  std::vector<int32_t>& refined = ws.Refined;
-  refined.clear();
-  while (!stack.empty() && error.empty())
+  // 1. the walk: cut nodes marked as reached, the nodes whose owned triangles are drawn listed
+  // (every cut node is marked before the first triangle looks for its representatives)
+  bool ok = WalkAboveTheCut(v, state, ws, out, error);
+  // 2. each owned triangle decided (in parallel when asked), 3. the drawn ones emitted in order
+  const TriangleJudge judge(v, state, cullMask, ws.Reached.data(), options);
+  PatchEmitter emit(v, ws, out);
+  if (ok && options.For)
   {
-    const int32_t n = stack.back();
-    stack.pop_back();
-    ++out.NodesVisited;
-    const uint8_t s = state[n];
-    if (s > CutOpen)
+    ok = DecideInParallel(v, judge, ws, emit, options, error);
+  }
+  else if (ok)
+  {
+    for (size_t i = 0; i < ws.Refined.size() && ok; ++i)
     {
-      fail("node " + std::to_string(n) + " has cut state " + std::to_string(int(s)) +
-        " (valid states are 0 to 3)");
-      break;
-    }
-    if (s != NotInCut)
-    {
-      if (s == CutOpen && !v.IsLeaf(n))
+      const auto owned = OwnedTriangles(v, ws.Refined[i]);
+      for (int64_t t = owned.first; t < owned.second && ok; ++t)
       {
-        fail("node " + std::to_string(n) + " is opened but is not a leaf");
-        break;
+        ok = emit.Emit(judge.Decide(t, error), error);
       }
-      ws.Reached[n] = 1;
-      ws.Touched.push_back(n);
-      if (s == CutOpen)
-      {
-        refined.push_back(n);
-      }
-      continue;
-    }
-    if (v.IsLeaf(n))
-    {
-      fail("leaf " + std::to_string(n) + " has no ancestor in the cut");
-      break;
-    }
-    refined.push_back(n);
-    const int count = __builtin_popcount(v.ChildMask[n]);
-    const int32_t first = v.FirstChild[n];
-    if (first <= n || first + count > v.NumberOfNodes)
-    {
-      fail("node " + std::to_string(n) + " has children outside the node arrays");
-      break;
-    }
-    for (int c = count - 1; c >= 0; --c)
-    {
-      stack.push_back(first + c);
     }
   }
-  // every cut node is marked before the first triangle looks for its representatives
-  for (size_t i = 0; i < refined.size() && error.empty(); ++i)
-  {
-    emitOwned(refined[i]);
-  }
+  // 4. the workspace made clean for the next frame
   for (int32_t n : ws.Touched)
   {
     ws.Reached[n] = 0;
@@ -322,7 +513,7 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   }
   ws.Touched.clear();
   ws.TouchedClusters.clear();
-  if (!error.empty())
+  if (!ok)
   {
     out.PointSource.clear();
     out.Triangles.clear();

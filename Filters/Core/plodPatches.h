@@ -58,6 +58,7 @@
 
 #include "plodCut.h"
 #include "plodOctree.h"
+#include "plodParallel.h"
 
 #include <cstdint>
 #include <string>
@@ -94,12 +95,38 @@ enum class FoldHandling
 /// Options of GeneratePatches.
 struct PatchOptions
 {
+  /**
+   * When set, the owned triangles are decided in ranges run through it (vtkSMPTools in the VTK
+   * layer), then written in order: the output is the same, point for point, as without it.
+   */
+  ParallelFor For;
+  /// With For: about how many owned triangles one range decides.
+  int64_t TrianglesPerRange = 16384;
   FoldHandling Folds = FoldHandling::ReverseNormals;
   /// Skip triangles facing away from the eye (a closed surface seen from outside).
   bool CullBackFaces = false;
   double Eye[3] = { 0, 0, 0 }; // octree-local coordinates (relative to the origin)
   bool Parallel = false;
   double ProjectionDirection[3] = { 0, 0, -1 }; // parallel projection
+};
+
+/// What one owned triangle becomes, decided from the cut alone (GeneratePatches' phase that may
+/// run in parallel; kept in the workspace between frames).
+struct PatchDecision
+{
+  enum Kind : uint8_t
+  {
+    Draw,        ///< its three representatives
+    DrawFold,    ///< turned over: on its own corners with reversed normals
+    Collapsed,   ///< two corners share a representative (an inconsistent owner)
+    Ghost,       ///< its lead corner is a ghost
+    Hidden,      ///< among hidden cells, facing away or outside one common plane
+    FoldDropped, ///< turned over, FoldHandling::Drop
+    BackFace,    ///< facing away from the eye (CullBackFaces)
+    Failed       ///< an index out of range or an invalid cut
+  };
+  Kind What = Draw;
+  int32_t Rep[3] = { 0, 0, 0 }; ///< cluster >= 0, or -1 - surface point of an opened leaf
 };
 
 /// Buffers kept between frames so that a frame allocates (and page-faults) nothing new.
@@ -111,6 +138,10 @@ struct PatchWorkspace
   std::vector<int32_t> TouchedClusters;
   std::vector<int32_t> Stack;
   std::vector<int32_t> Refined; // nodes whose owned triangles are drawn
+  // PatchOptions::For: the ranges of Refined, and each range's decisions and first error
+  std::vector<size_t> RangeBounds;
+  std::vector<std::vector<PatchDecision>> Decisions;
+  std::vector<std::string> RangeErrors;
 };
 
 /**

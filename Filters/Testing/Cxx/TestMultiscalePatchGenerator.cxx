@@ -26,12 +26,16 @@
 #include "vtkNew.h"
 #include "vtkPerceptualLODSelector.h"
 #include "vtkPointData.h"
+#include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSMPTools.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstring>
+#include <functional>
 #include <map>
 #include <random>
 #include <set>
@@ -1130,4 +1134,118 @@ TEST(MultiscalePatchGenerator, PiecesWithGhostsDrawTheWholeOnce)
       EXPECT_EQ(reason->GetValue(n), plod::Culled) << n;
     }
   }
+}
+
+// The parallel phase decides the owned triangles in ranges run in any order: the output is the
+// serial one, point for point and counter for counter, whatever the ranges and their order.
+TEST(MultiscalePatchGenerator, ParallelRangesGiveTheSerialOutput)
+{
+  // a ParallelFor that runs its ranges backwards (as a thread pool may), in ranges of `grain`
+  plod::ParallelFor backwards = [](int64_t n, int64_t grain,
+                                  const std::function<void(int64_t, int64_t)>& body) {
+    grain = std::max<int64_t>(1, grain);
+    for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
+      body(b, std::min(n, b + grain));
+  };
+  std::mt19937 rng(5);
+  int compared = 0;
+  for (const auto& model : ClosedModels(5))
+  {
+    Built b = Build(model.second, 5);
+    const plod::OctreeView& v = b.View;
+    plod::PatchWorkspace serialWs, parallelWs;
+    for (int trial = 0; trial < 12; ++trial)
+    {
+      std::vector<uint8_t> cut = RandomCut(v, rng, trial % 3 == 0 ? 0.4 : 0.0);
+      std::vector<uint8_t> mask(v.NumberOfNodes, 0);
+      for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+        if (cut[n] == plod::CutHidden)
+          mask[n] = static_cast<uint8_t>(rng() % 4);
+      plod::PatchOptions serial;
+      serial.Folds = static_cast<plod::FoldHandling>(trial % 3);
+      serial.CullBackFaces = trial % 2 == 1;
+      serial.Eye[0] = 0.3 * trial;
+      serial.Eye[2] = 3.0;
+      plod::PatchOptions parallel = serial;
+      parallel.For = backwards;
+      parallel.TrianglesPerRange = 1 + trial % 7;
+      plod::PatchResult a, c;
+      std::string whyA, whyC;
+      const bool okA =
+        plod::GeneratePatches(v, cut.data(), mask.data(), a, &whyA, &serialWs, serial);
+      const bool okC =
+        plod::GeneratePatches(v, cut.data(), mask.data(), c, &whyC, &parallelWs, parallel);
+      ASSERT_TRUE(okA) << whyA;
+      ASSERT_TRUE(okC) << whyC;
+      const std::string what = model.first + " trial " + std::to_string(trial);
+      EXPECT_EQ(a.PointSource, c.PointSource) << what;
+      EXPECT_EQ(a.Triangles, c.Triangles) << what;
+      EXPECT_EQ(a.ReversedNormals, c.ReversedNormals) << what;
+      EXPECT_EQ(a.NodesVisited, c.NodesVisited) << what;
+      EXPECT_EQ(a.HiddenSkipped, c.HiddenSkipped) << what;
+      EXPECT_EQ(a.Folds, c.Folds) << what;
+      EXPECT_EQ(a.BackFacesCulled, c.BackFacesCulled) << what;
+      compared += a.Triangles.empty() ? 0 : 1;
+    }
+    // an invalid cut (a level-1 node in the cut above the level-2 cut): the same first error
+    std::vector<uint8_t> bad(v.NumberOfNodes);
+    plod::UniformCut(v, std::min(2, v.FinestLevel), bad.data());
+    bad[v.FirstChild[0]] = plod::CutDrawn;
+    plod::PatchOptions parallel;
+    parallel.For = backwards;
+    parallel.TrianglesPerRange = 3;
+    plod::PatchResult a, c;
+    std::string whyA, whyC;
+    const bool okA = plod::GeneratePatches(v, bad.data(), nullptr, a, &whyA);
+    const bool okC = plod::GeneratePatches(v, bad.data(), nullptr, c, &whyC, nullptr, parallel);
+    EXPECT_EQ(okA, okC) << model.first;
+    EXPECT_EQ(whyA, whyC) << model.first;
+  }
+  EXPECT_GT(compared, 100);
+}
+
+// The filter on 1, 2 and 8 threads: the same arrays, value for value.
+TEST(MultiscalePatchGenerator, AnyThreadCountGivesTheSameOutput)
+{
+  auto blob = plodtest::MakeBlob(7, 160, 0.3);
+  Built b = Build(blob, 7);
+  std::vector<uint8_t> cut(b.View.NumberOfNodes);
+  plod::UniformCut(b.View, -1, cut.data()); // every leaf opened: many ranges
+  auto octree = WithCut(b.Octree, cut);
+  auto run = [&](int threads, bool multi) {
+    vtkSMPTools::Initialize(threads);
+    vtkNew<vtkMultiscalePatchGenerator> gen;
+    gen->SetInputData(octree);
+    gen->SetMultiThreaded(multi);
+    gen->GenerateNodeIdsOn();
+    gen->Update();
+    auto pd = vtkSmartPointer<vtkPolyData>::New();
+    pd->DeepCopy(gen->GetOutput());
+    return pd;
+  };
+  auto same = [](vtkDataArray* x, vtkDataArray* y, const std::string& what) {
+    ASSERT_NE(x, nullptr) << what;
+    ASSERT_NE(y, nullptr) << what;
+    ASSERT_EQ(x->GetNumberOfValues(), y->GetNumberOfValues()) << what;
+    ASSERT_EQ(x->GetDataType(), y->GetDataType()) << what;
+    EXPECT_EQ(std::memcmp(x->GetVoidPointer(0), y->GetVoidPointer(0),
+                size_t(x->GetNumberOfValues()) * size_t(x->GetDataTypeSize())),
+      0)
+      << what;
+  };
+  const auto reference = run(1, false);
+  ASSERT_GT(reference->GetNumberOfPolys(), 2 * 16384) << "too small to split in ranges";
+  for (int threads : { 1, 2, 8 })
+  {
+    const auto pd = run(threads, true);
+    const std::string what = std::to_string(threads) + " threads";
+    same(reference->GetPoints()->GetData(), pd->GetPoints()->GetData(), what + ": points");
+    same(reference->GetPointData()->GetNormals(), pd->GetPointData()->GetNormals(),
+      what + ": normals");
+    same(reference->GetPointData()->GetArray("OctreeNode"),
+      pd->GetPointData()->GetArray("OctreeNode"), what + ": nodes");
+    same(reference->GetPolys()->GetConnectivityArray(), pd->GetPolys()->GetConnectivityArray(),
+      what + ": triangles");
+  }
+  vtkSMPTools::Initialize(0);
 }
