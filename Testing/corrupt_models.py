@@ -36,6 +36,21 @@ def ascii_body(faces=FACES):
     return ('\n'.join(rows) + '\n').encode()
 
 
+def binary_stl(header=b'solid tetra'):
+    """The tetrahedron as a binary STL whose header starts with 'solid', as many writers' do."""
+    body = header.ljust(80, b'\0') + struct.pack('<I', len(FACES))
+    for f in FACES:
+        corners = [c for i in f for c in TETRA[i]]
+        body += struct.pack('<12f', 0, 0, 0, *corners) + b'\0\0'
+    return body
+
+
+def obj(vertices=TETRA, faces=FACES):
+    lines = ['v ' + ' '.join(str(c) for c in p) for p in vertices]
+    lines += ['f ' + ' '.join(str(i + 1) for i in f) for f in faces]
+    return ('\n'.join(lines) + '\n').encode()
+
+
 def models():
     """(file name, bytes, None for a missing file, 'dir' or 'fifo', expected message part)"""
     full = header('binary_little_endian') + binary_body()
@@ -66,6 +81,14 @@ def models():
         ('missing.ply', None, 'cannot open: No such file or directory'),
         ('folder.ply', 'dir', 'is a directory'),
         ('empty.stl', b'', 'the file is empty'),
+        # STL and OBJ (plod::CheckSTLFile, plod::CheckOBJFile): VTK's readers would read a cut
+        # STL in part and a NaN OBJ vertex as (0, 0, 0), and keep an index out of range
+        ('cut_binary.stl', binary_stl()[:-30],
+         'the file is cut inside triangle 3 of 4 (triangles count from 0; 20 of its 50 bytes'),
+        ('nan_vertex.obj', obj([TETRA[0], ('nan', 'nan', 'nan')] + TETRA[2:]),
+         "line 2: vertex 2 (OBJ counts from 1) has the coordinate 'nan'"),
+        ('index_out_of_range.obj', obj(faces=[(0, 1, 2), (0, 3, 9)] + FACES[2:]),
+         "line 6: vertex index 10 in '10' is out of range: 4 are defined before this line"),
         ('missing.obj', None, 'cannot open: No such file or directory'),
         ('folder.vtp', 'dir', 'is a directory'),
         # FIFOs: opening one would wait for a writer; a program must refuse it at once

@@ -28,6 +28,8 @@
 #include "vtkTransform.h"
 #include "vtkXMLPolyDataReader.h"
 
+#include "../Filters/Core/plodMeshFileCheck.h" // (the programs' include path lacks Filters/Core)
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -513,10 +515,14 @@ inline vtkSmartPointer<vtkPolyData> ReadPLY(const std::string& file)
 }
 
 /**
- * Reads a model by extension: PLY (checked first, see ReadPLY), STL, OBJ or VTP. nullptr when
- * it cannot be read, with one line on stderr saying why for a missing, empty or unreadable file,
- * a directory, an unknown extension, a reader that throws, or a model without points (VTK's
- * STL, OBJ and XML readers may print their own errors before it).
+ * Reads a model by extension: PLY (checked first, see ReadPLY), STL, OBJ or VTP. STL and OBJ
+ * files are checked first too, by plod::CheckSTLFile and plod::CheckOBJFile under the limits of
+ * VTK 9.1's readers: a cut, non-finite or out-of-range file gives nullptr and one line,
+ * "<file>: <what is wrong and where>", and a warning of the check (faces that are not drawn,
+ * ...) one line "warning: <file>: <warning>". nullptr when it cannot be read, with one line on
+ * stderr saying why for a missing, empty or unreadable file, a directory, an unknown extension,
+ * a reader that throws, or a model without points (VTK's XML reader may print its own errors
+ * before it).
  */
 inline vtkSmartPointer<vtkPolyData> ReadModel(const std::string& file)
 {
@@ -533,6 +539,33 @@ inline vtkSmartPointer<vtkPolyData> ReadModel(const std::string& file)
   if (ext == ".ply")
   {
     return ReadPLY(file);
+  }
+  if (ext == ".stl" || ext == ".obj")
+  {
+    std::string why;
+    std::string warning;
+    bool ok = false;
+    if (ext == ".stl")
+    {
+      plod::STLSummary summary;
+      ok = plod::CheckSTLFile(file, &why, &summary, plod::VTKSTLReaderLimits());
+      warning = summary.Warning;
+    }
+    else
+    {
+      plod::OBJSummary summary;
+      ok = plod::CheckOBJFile(file, &why, &summary, plod::VTKOBJReaderLimits());
+      warning = summary.Warning;
+    }
+    if (!ok)
+    {
+      ReportUnreadable(file, why);
+      return nullptr;
+    }
+    if (!warning.empty())
+    {
+      std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), warning.c_str());
+    }
   }
   vtkSmartPointer<vtkAlgorithm> reader;
   if (ext == ".stl")

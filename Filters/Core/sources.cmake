@@ -5,6 +5,7 @@ set(plod_core_sources
   plodBuildUtil.cxx
   plodCloudSurface.cxx
   plodCut.cxx
+  plodMeshFileCheck.cxx
   plodOctree.cxx
   plodOctreeBuilder.cxx
   plodOctreeFile.cxx
@@ -17,11 +18,13 @@ set(plod_core_headers
   plodBuildUtil.h
   plodCloudSurface.h
   plodCut.h
+  plodMeshFileCheck.h
   plodOctree.h
   plodOctreeBuilder.h
   plodOctreeFile.h
   plodOctreeSchema.h
   plodOctreeStorage.h
+  plodParallel.h
   plodPatches.h
   plodPLYCheck.h
   plodSelector.h)
