@@ -11,6 +11,7 @@
 #include "vtkMultiscaleOctreeBuilder.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkObjectFactory.h"
+#include "vtkPerceptualLODMapper.h"
 #include "vtkPerceptualLODRenderBinding.h"
 #include "vtkPerceptualLODSelector.h"
 #include "vtkPolyDataMapper.h"
@@ -33,6 +34,8 @@ vtkPerceptualLODActor::vtkPerceptualLODActor()
   this->Patches->SetInputConnection(this->Selector->GetOutputPort());
   this->LODMapper->SetInputConnection(this->Patches->GetOutputPort());
   this->Superclass::SetMapper(this->LODMapper);
+  this->GPUMapper = vtkPerceptualLODMapper::New();
+  this->GPUMapper->SetOctreeConnection(this->Selector->GetOutputPort());
   this->Device = vtkActor::New();
   this->DeviceMatrix = vtkMatrix4x4::New();
   this->OnRendererDeleted = vtkCallbackCommand::New();
@@ -56,6 +59,7 @@ vtkPerceptualLODActor::~vtkPerceptualLODActor()
   this->Device->Delete();
   this->DeviceMatrix->Delete();
   this->LODMapper->Delete();
+  this->GPUMapper->Delete();
   this->Patches->Delete();
   this->Selector->Delete();
   this->Builder->Delete();
@@ -89,10 +93,24 @@ bool vtkPerceptualLODActor::GetInputIsOctree()
 //------------------------------------------------------------------------------
 void vtkPerceptualLODActor::SetMapper(vtkMapper* mapper)
 {
-  if (mapper != this->LODMapper)
+  if (mapper != this->LODMapper && mapper != this->GPUMapper)
   {
     vtkWarningMacro("SetMapper is ignored: vtkPerceptualLODActor draws through its own mapper "
                     "(set its input with SetInputConnection or SetInputData).");
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::SetDrawPath(int path)
+{
+  path = path == DRAW_PATH_GPU ? DRAW_PATH_GPU : DRAW_PATH_CPU;
+  if (path != this->DrawPath)
+  {
+    this->DrawPath = path;
+    this->Superclass::SetMapper(path == DRAW_PATH_GPU ? static_cast<vtkMapper*>(this->GPUMapper)
+                                                      : static_cast<vtkMapper*>(this->LODMapper));
+    this->WarnedFallback = false;
+    this->Modified();
   }
 }
 
@@ -308,6 +326,18 @@ void vtkPerceptualLODActor::Render(vtkRenderer* renderer, vtkMapper* mapper)
   this->Device->SetUserMatrix(this->DeviceMatrix);
   this->Device->SetForceOpaque(this->GetForceOpaque());
   this->Device->SetForceTranslucent(this->GetForceTranslucent());
+  this->DrewOnGPU = mapper == this->GPUMapper;
+  if (this->DrewOnGPU && !this->GPUMapper->IsSupported(renderer->GetRenderWindow()))
+  {
+    if (!this->WarnedFallback)
+    {
+      this->WarnedFallback = true;
+      vtkWarningMacro(<< "The GPU draw path needs " << this->GPUMapper->GetUnsupportedReason()
+                      << ", which this OpenGL context lacks: drawing through the CPU path.");
+    }
+    mapper = this->LODMapper;
+    this->DrewOnGPU = false;
+  }
   this->Device->Render(renderer, mapper);
   this->EstimatedRenderTime = mapper->GetTimeToDraw();
 }
@@ -316,6 +346,8 @@ void vtkPerceptualLODActor::Render(vtkRenderer* renderer, vtkMapper* mapper)
 void vtkPerceptualLODActor::ReleaseGraphicsResources(vtkWindow* window)
 {
   this->Device->ReleaseGraphicsResources(window);
+  this->LODMapper->ReleaseGraphicsResources(window);
+  this->GPUMapper->ReleaseGraphicsResources(window);
   this->Superclass::ReleaseGraphicsResources(window);
 }
 
@@ -326,6 +358,7 @@ void vtkPerceptualLODActor::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "InputIsOctree: " << this->InputIsOctree << "\n";
   os << indent << "Renderers fed: " << this->Bindings.size() << "\n";
   os << indent << "TargetFrameTime: " << this->TargetFrameTime << " s\n";
+  os << indent << "DrawPath: " << (this->DrawPath == DRAW_PATH_GPU ? "GPU" : "CPU") << "\n";
   os << indent << "Selector:\n";
   this->Selector->PrintSelf(os, indent.GetNextIndent());
 }

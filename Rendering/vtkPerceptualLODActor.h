@@ -36,6 +36,11 @@
  *   view as the last render for a consistent answer.
  * - **Frame-time target**: SetTargetFrameTime(seconds) holds frames near that time by a
  *   triangle budget (vtkPerceptualLODRenderBinding).
+ * - **Two draw paths.** The CPU path (the default) makes the cut's triangles with the patch
+ *   generator and draws them with a vtkPolyDataMapper. The GPU path (SetDrawPathToGPU())
+ *   keeps the octree's surface on the device and sends each frame only the cut's changes
+ *   (vtkPerceptualLODMapper); where the context lacks a feature it needs, the actor draws through
+ *   the CPU path and warns once, naming the feature.
  * - SetMapper() is ignored with a warning: the actor's mapper is its own.
  *
  * @sa vtkPerceptualLODRenderBinding vtkPerceptualLODSelector vtkMultiscaleOctreeReader
@@ -55,6 +60,7 @@ class vtkMatrix4x4;
 class vtkDataObject;
 class vtkMultiscaleOctreeBuilder;
 class vtkMultiscalePatchGenerator;
+class vtkPerceptualLODMapper;
 class vtkPerceptualLODRenderBinding;
 class vtkRenderer;
 class vtkPerceptualLODSelector;
@@ -92,6 +98,29 @@ public:
    */
   void SetTargetFrameTime(double seconds);
   vtkGetMacro(TargetFrameTime, double);
+  ///@}
+
+  ///@{
+  /**
+   * How the cut is drawn: DRAW_PATH_CPU (default: the patch generator's triangles through a
+   * vtkPolyDataMapper) or DRAW_PATH_GPU (vtkPerceptualLODMapper: the surface resident on the
+   * GPU, only the cut's changes sent each frame; the CPU path, with a warning, where the
+   * context lacks what it needs). The GPU path draws folds as they are (the CPU path's
+   * default gives them reversed normals): see vtkPerceptualLODMapper.
+   */
+  enum DrawPaths
+  {
+    DRAW_PATH_CPU = 0,
+    DRAW_PATH_GPU = 1
+  };
+  void SetDrawPath(int path);
+  vtkGetMacro(DrawPath, int);
+  void SetDrawPathToCPU() { this->SetDrawPath(DRAW_PATH_CPU); }
+  void SetDrawPathToGPU() { this->SetDrawPath(DRAW_PATH_GPU); }
+  /// The GPU path's mapper (its figures: bytes uploaded, triangles drawn).
+  vtkPerceptualLODMapper* GetGPUMapper() { return this->GPUMapper; }
+  /// True when the last render drew through the GPU path.
+  vtkGetMacro(DrewOnGPU, bool);
   ///@}
 
   /// The binding that feeds the selector for `renderer` (null before it first rendered there).
@@ -151,6 +180,10 @@ protected:
   vtkPerceptualLODSelector* Selector = nullptr;
   vtkMultiscalePatchGenerator* Patches = nullptr;
   vtkPolyDataMapper* LODMapper = nullptr;
+  vtkPerceptualLODMapper* GPUMapper = nullptr;
+  int DrawPath = DRAW_PATH_CPU;
+  bool DrewOnGPU = false;
+  bool WarnedFallback = false;
   bool InputIsOctree = false;
   double TargetFrameTime = 0;
   double ModelBounds[6];

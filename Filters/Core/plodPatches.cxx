@@ -536,4 +536,92 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   return true;
 }
 
+bool DrawnTriangleRanges(const OctreeView& v, const uint8_t* state, std::vector<int64_t>& first,
+  std::vector<int64_t>& count, std::string* why, PatchWorkspace* workspace)
+{
+  first.clear();
+  count.clear();
+  if (v.NumberOfNodes == 0)
+  {
+    return true;
+  }
+  PatchWorkspace local;
+  PatchWorkspace& ws = workspace ? *workspace : local;
+  if (static_cast<int64_t>(ws.Reached.size()) != v.NumberOfNodes)
+  {
+    ws.Reached.assign(v.NumberOfNodes, 0);
+    ws.Touched.clear();
+  }
+  PatchResult counters;
+  std::string error;
+  const bool ok = WalkAboveTheCut(v, state, ws, counters, error);
+  for (int32_t n : ws.Touched)
+  {
+    ws.Reached[n] = 0;
+  }
+  ws.Touched.clear();
+  if (!ok)
+  {
+    if (why)
+    {
+      *why = error;
+    }
+    return false;
+  }
+  // owned ranges follow the node order: sorted, they are disjoint and increasing
+  std::vector<int32_t>& nodes = ws.Refined;
+  std::sort(nodes.begin(), nodes.end());
+  for (int32_t n : nodes)
+  {
+    const auto owned = OwnedTriangles(v, n);
+    if (owned.second <= owned.first)
+    {
+      continue;
+    }
+    if (!first.empty() && first.back() + count.back() == owned.first)
+    {
+      count.back() += owned.second - owned.first; // touches the previous range
+    }
+    else
+    {
+      first.push_back(owned.first);
+      count.push_back(owned.second - owned.first);
+    }
+  }
+  return true;
+}
+
+int64_t ChangedSpans(const uint8_t* before, const uint8_t* now, int64_t n, int64_t gap,
+  std::vector<std::pair<int64_t, int64_t>>& spans)
+{
+  spans.clear();
+  int64_t bytes = 0;
+  for (int64_t i = 0; i < n;)
+  {
+    if (before[i] == now[i])
+    {
+      ++i;
+      continue;
+    }
+    // a difference: extend while the next difference is closer than `gap`
+    int64_t end = i + 1, equal = 0;
+    for (int64_t j = i + 1; j < n && equal < gap; ++j)
+    {
+      if (before[j] != now[j])
+      {
+        end = j + 1;
+        equal = 0;
+      }
+      else
+      {
+        ++equal;
+      }
+    }
+    spans.emplace_back(i, end);
+    bytes += end - i;
+    i = end;
+  }
+  return bytes;
+}
+
 } // namespace plod

@@ -62,6 +62,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace plod
@@ -159,6 +160,25 @@ struct PatchWorkspace
 bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
   PatchResult& out, std::string* why = nullptr, PatchWorkspace* workspace = nullptr,
   const PatchOptions& options = PatchOptions());
+
+/**
+ * The triangles a cut draws, as ranges of the owner-sorted triangle array (the GPU path: the
+ * triangles stay on the device and only these ranges are drawn, each corner moved to its
+ * representative by the vertex shader). Those owned by the refined nodes and by the opened
+ * leaves, in increasing order, ranges that touch merged: `first[i]`, `count[i]`. The same
+ * triangles GeneratePatches considers, before its per-triangle rules (hidden cells, folds,
+ * back faces, ghosts). False (and `why`) on an invalid cut, as GeneratePatches.
+ */
+bool DrawnTriangleRanges(const OctreeView& v, const uint8_t* state, std::vector<int64_t>& first,
+  std::vector<int64_t>& count, std::string* why = nullptr, PatchWorkspace* workspace = nullptr);
+
+/**
+ * The spans [begin, end) of the `n` bytes where `now` differs from `before`, spans separated
+ * by fewer than `gap` equal bytes merged (one upload instead of two small ones). Returns the
+ * bytes the spans hold. The GPU path uploads only these spans of the cut's state.
+ */
+int64_t ChangedSpans(const uint8_t* before, const uint8_t* now, int64_t n, int64_t gap,
+  std::vector<std::pair<int64_t, int64_t>>& spans);
 
 } // namespace plod
 

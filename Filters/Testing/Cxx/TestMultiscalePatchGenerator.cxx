@@ -1249,3 +1249,104 @@ TEST(MultiscalePatchGenerator, AnyThreadCountGivesTheSameOutput)
   }
   vtkSMPTools::Initialize(0);
 }
+
+// The GPU path's triangles: the ranges of the owner-sorted array owned by refined nodes and
+// opened leaves, sorted, merged where they touch, covering exactly the triangles the patch
+// generator considers (those it draws or culls by its per-triangle rules).
+TEST(MultiscalePatchGenerator, DrawnTriangleRangesAreTheCutsTrianglesMerged)
+{
+  std::mt19937 rng(17);
+  for (const auto& model : ClosedModels(5))
+  {
+    Built b = Build(model.second, 5);
+    const plod::OctreeView& v = b.View;
+    plod::PatchWorkspace ws;
+    for (int trial = 0; trial < 10; ++trial)
+    {
+      const std::vector<uint8_t> cut = RandomCut(v, rng, 0.0);
+      std::vector<int64_t> first, count;
+      std::string why;
+      ASSERT_TRUE(plod::DrawnTriangleRanges(v, cut.data(), first, count, &why, &ws)) << why;
+      // expected: every triangle whose owner is above the cut (or an opened leaf)
+      std::vector<bool> expected(v.NumberOfTriangles, false);
+      for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+      {
+        bool above = cut[n] == plod::CutOpen;
+        for (int64_t a = n; !above && a >= 0; a = v.Parent[a])
+        {
+          if (cut[a] != plod::NotInCut)
+            break; // n is in or below the cut
+          if (a == 0)
+            above = true; // no cut node on the way up: n is above the cut
+        }
+        if (above)
+          for (int64_t t = v.FirstTriangle[n]; t < v.TriangleEnd(n); ++t)
+            expected[t] = true;
+      }
+      std::vector<bool> got(v.NumberOfTriangles, false);
+      for (size_t i = 0; i < first.size(); ++i)
+      {
+        ASSERT_GT(count[i], 0);
+        if (i > 0)
+        {
+          EXPECT_GT(first[i], first[i - 1] + count[i - 1]) << "ranges not sorted, or touching";
+        }
+        for (int64_t t = first[i]; t < first[i] + count[i]; ++t)
+          got[t] = true;
+      }
+      ASSERT_EQ(got, expected) << model.first << " trial " << trial;
+      // the patch generator considers the same triangles: drawn + culled + collapsed
+      plod::PatchResult r;
+      plod::PatchOptions keep;
+      keep.Folds = plod::FoldHandling::Keep;
+      ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, r, nullptr, nullptr, keep));
+      int64_t total = 0;
+      for (int64_t c : count)
+        total += c;
+      EXPECT_EQ(total, static_cast<int64_t>(r.Triangles.size() / 3)) << model.first;
+    }
+  }
+}
+
+// The spans of a state that changed: exactly the differing bytes, spans closer than the gap
+// merged, the bytes counted.
+TEST(MultiscalePatchGenerator, ChangedSpansCoverEveryDifferenceAndMergeCloseOnes)
+{
+  std::mt19937 rng(23);
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    const int64_t n = 1 + rng() % 2000;
+    const int64_t gap = 1 + rng() % 80;
+    std::vector<uint8_t> before(n), now(n);
+    for (int64_t i = 0; i < n; ++i)
+      before[i] = now[i] = static_cast<uint8_t>(rng() % 4);
+    const int changes = static_cast<int>(rng() % 30);
+    for (int k = 0; k < changes; ++k)
+      now[rng() % n] ^= 1;
+    std::vector<std::pair<int64_t, int64_t>> spans;
+    const int64_t bytes = plod::ChangedSpans(before.data(), now.data(), n, gap, spans);
+    int64_t sum = 0;
+    std::vector<bool> inSpan(n, false);
+    for (size_t i = 0; i < spans.size(); ++i)
+    {
+      ASSERT_LT(spans[i].first, spans[i].second);
+      EXPECT_NE(before[spans[i].first], now[spans[i].first]) << "a span starts on a difference";
+      EXPECT_NE(before[spans[i].second - 1], now[spans[i].second - 1]) << "and ends on one";
+      if (i > 0)
+      {
+        EXPECT_GE(spans[i].first - spans[i - 1].second, gap) << "close spans not merged";
+      }
+      sum += spans[i].second - spans[i].first;
+      for (int64_t j = spans[i].first; j < spans[i].second; ++j)
+        inSpan[j] = true;
+    }
+    EXPECT_EQ(bytes, sum);
+    for (int64_t i = 0; i < n; ++i)
+    {
+      if (before[i] != now[i])
+      {
+        ASSERT_TRUE(inSpan[i]) << "a difference outside every span";
+      }
+    }
+  }
+}

@@ -17,6 +17,7 @@
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
 #include "vtkPerceptualLODActor.h"
+#include "vtkPerceptualLODMapper.h"
 #include "vtkPerceptualLODRenderBinding.h"
 #include "vtkPerceptualLODSelector.h"
 #include "vtkPointData.h"
@@ -428,4 +429,64 @@ TEST(PerceptualLODActor, InconsistentlyOrientedClosedMeshHasNoSeeThroughHoles)
     FlippedSphere(false), vtkPerceptualLODSelector::BACK_FACES_AUTOMATIC, &hid, quiet);
   EXPECT_TRUE(hid);
   EXPECT_TRUE(quiet->Warnings.empty()) << quiet->Warnings.front();
+}
+
+// The GPU draw path: the same picture as the CPU path (folds kept on both, the GPU path's rule),
+// the surface sent once and then only the cut's changes; where the context lacks a feature, the
+// CPU path with one warning naming it.
+TEST(PerceptualLODActor, GPUPathDrawsTheCPUPathsPicture)
+{
+  auto blob = plodtest::MakeBlob(4, 90, 0.3);
+  auto image = [&blob](int path, const char* missing, int* drawnTriangles,
+                 plodtest::ErrorRecorder* warnings, bool* onGPU) {
+    Scene s;
+    vtkNew<vtkPerceptualLODActor> actor;
+    actor->SetInputData(blob);
+    actor->GetPatchGenerator()->SetFoldHandling(vtkMultiscalePatchGenerator::FOLDS_KEEP);
+    actor->SetDrawPath(path);
+    if (missing)
+      actor->GetGPUMapper()->SetSimulatedMissingFeature(missing);
+    if (warnings)
+      actor->AddObserver(vtkCommand::WarningEvent, warnings);
+    s.Renderer->AddActor(actor);
+    s.Renderer->ResetCamera();
+    s.Renderer->GetActiveCamera()->Azimuth(40);
+    s.Renderer->GetActiveCamera()->Dolly(1.6);
+    s.Renderer->ResetCameraClippingRange();
+    const auto pixels = s.Image();
+    *drawnTriangles = path == vtkPerceptualLODActor::DRAW_PATH_GPU && !missing
+      ? static_cast<int>(actor->GetGPUMapper()->GetNumberOfDrawnTriangles())
+      : static_cast<int>(actor->GetPatchGenerator()->GetNumberOfTriangles());
+    *onGPU = actor->GetDrewOnGPU();
+    return pixels;
+  };
+  int cpuTriangles = 0, gpuTriangles = 0, fallbackTriangles = 0;
+  bool onGPU = false;
+  const auto cpu =
+    image(vtkPerceptualLODActor::DRAW_PATH_CPU, nullptr, &cpuTriangles, nullptr, &onGPU);
+  EXPECT_FALSE(onGPU);
+  const auto gpu =
+    image(vtkPerceptualLODActor::DRAW_PATH_GPU, nullptr, &gpuTriangles, nullptr, &onGPU);
+  EXPECT_TRUE(onGPU);
+  ASSERT_EQ(cpu.size(), gpu.size());
+  EXPECT_GT(Lit(cpu), 2000);
+  // the GPU path sends the triangles the patch generator culls as back faces (OpenGL culls them)
+  EXPECT_GE(gpuTriangles, cpuTriangles);
+  int differ = 0;
+  for (size_t i = 0; i + 2 < cpu.size(); i += 3)
+    differ += (std::abs(cpu[i] - gpu[i]) > 8 || std::abs(cpu[i + 1] - gpu[i + 1]) > 8 ||
+                std::abs(cpu[i + 2] - gpu[i + 2]) > 8)
+      ? 1
+      : 0;
+  EXPECT_LE(differ, Lit(cpu) / 200 + 5) << "pixels that differ between the two paths";
+  // a context without a needed feature: the CPU path, and one warning naming the feature
+  vtkNew<plodtest::ErrorRecorder> warnings;
+  const auto fallback = image(vtkPerceptualLODActor::DRAW_PATH_GPU, "glMultiDrawElements",
+    &fallbackTriangles, warnings, &onGPU);
+  EXPECT_FALSE(onGPU);
+  ASSERT_EQ(warnings->Warnings.size(), 1u);
+  EXPECT_NE(warnings->Warnings[0].find("needs glMultiDrawElements"), std::string::npos)
+    << warnings->Warnings[0];
+  EXPECT_EQ(fallback, cpu) << "the fallback is the CPU path";
+  EXPECT_EQ(fallbackTriangles, cpuTriangles);
 }
