@@ -11,12 +11,14 @@
 #include "vtkMultiscaleOctree.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -519,6 +521,18 @@ int vtkPerceptualLODSelector::RequestData(
     I.Prepared = nullptr;
   }
   plod::SelectionStats stats;
+  if (this->MultiThreaded && vtkSMPTools::GetEstimatedNumberOfThreads() > 1)
+  {
+    I.Kernel.SetParallelFor(
+      [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
+        vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+          [&body](vtkIdType b, vtkIdType e) { body(b, e); });
+      });
+  }
+  else
+  {
+    I.Kernel.SetParallelFor(nullptr);
+  }
   I.Kernel.Select(
     in, I.State->GetPointer(0), I.Reason->GetPointer(0), I.CullMask->GetPointer(0), stats);
   I.State->Modified();

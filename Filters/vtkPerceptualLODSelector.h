@@ -346,6 +346,19 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Walk the tolerance cut's subtrees in parallel with vtkSMPTools (default on): the top of the
+   * tree is judged breadth first until enough subtrees wait, then each subtree is walked on its
+   * own. The cut, reasons, cull masks and figures are the serial walk's, node for node, on any
+   * number of threads. The budget walk (a global priority queue) and the incremental walk stay
+   * serial.
+   */
+  vtkSetMacro(MultiThreaded, bool);
+  vtkGetMacro(MultiThreaded, bool);
+  vtkBooleanMacro(MultiThreaded, bool);
+  ///@}
+
+  ///@{
   /// The view. Eye position default (0, 0, 1); view angle in degrees (default 30); viewport
   /// size in pixels (default 1920 x 1080).
   vtkSetVector3Macro(EyePosition, double);
@@ -512,6 +525,7 @@ protected:
   vtkIdType TriangleBudget;
   int BudgetStopRule;
   bool IncrementalSelection;
+  bool MultiThreaded = true;
   double EyePosition[3];
   double ViewAngle;
   int ViewportSize[2];

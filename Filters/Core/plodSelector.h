@@ -184,6 +184,7 @@
 
 #include "plodCut.h"
 #include "plodOctree.h"
+#include "plodParallel.h"
 
 #include <cstdint>
 #include <string>
@@ -424,6 +425,15 @@ public:
   void Select(const SelectionInput& in, uint8_t* state, uint8_t* reason, uint8_t* cullMask,
     SelectionStats& stats);
 
+  /**
+   * When set, the tolerance walk (no triangle budget, not incremental) judges the top of the
+   * tree breadth first until enough subtrees wait, then walks the subtrees through `parallelFor`
+   * (vtkSMPTools in the VTK layer), each with its own stack, list and figures, merged in order.
+   * The cut, the reasons, the cull masks and the figures are the serial walk's; only the order of
+   * the internal list of cut nodes differs. Unset (default): serial.
+   */
+  void SetParallelFor(const ParallelFor& parallelFor) { this->For = parallelFor; }
+
   /// Whether the tolerances refine (a leaf: open) the cell `node` judged with every test and no
   /// context from its parent, as the incremental walk judges the cells of the previous cut and
   /// the parents it may coarsen to. For tests and diagnostics; false for an index out of range.
@@ -487,6 +497,13 @@ private:
   int64_t FrontTriangles = 0;
   std::vector<uint32_t> Mark;
   uint32_t MarkValue = 0;
+  /// The parallel tolerance walk: the function, and each subtree's stack, cut list, figures and
+  /// triangles (capacities kept between frames).
+  ParallelFor For;
+  std::vector<std::vector<Entry>> TaskStacks;
+  std::vector<std::vector<int32_t>> TaskPrevious;
+  std::vector<SelectionStats> TaskStats;
+  std::vector<int64_t> TaskTriangles;
 };
 
 } // namespace plod

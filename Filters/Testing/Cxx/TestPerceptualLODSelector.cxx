@@ -22,6 +22,7 @@
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
 #include "vtkPerceptualLODSelector.h"
+#include "vtkSMPTools.h"
 #include "vtkTransform.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -1848,4 +1849,78 @@ TEST(PerceptualLODSelector, BudgetStopRuleThroughTheFilter)
   std::ostringstream text;
   p.Selector->PrintSelf(text, vtkIndent());
   EXPECT_NE(text.str().find("stop rule SkipMisfits"), std::string::npos) << text.str();
+}
+
+// The tolerance walk in parallel (Selector::SetParallelFor): over the models, views and every
+// mode, the cut, reasons, cull masks and figures of the serial walk, node for node, whether the
+// subtrees run in order, backwards, or on 1, 2 and 8 vtkSMPTools threads.
+TEST(PerceptualLODSelector, ParallelWalkGivesTheSerialCut)
+{
+  plod::ParallelFor backwards = [](int64_t n, int64_t grain,
+                                  const std::function<void(int64_t, int64_t)>& body) {
+    grain = std::max<int64_t>(1, grain);
+    for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
+      body(b, std::min(n, b + grain));
+  };
+  auto smp = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
+    vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+      [&body](vtkIdType b, vtkIdType e) { body(b, e); });
+  };
+  const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { -1.2, 0.3, 1.9 },
+    { 0.05, 0.02, 0.3 } };
+  int cases = 0;
+  ForEachBudgetView(eyes,
+    [&](BudgetScene& scene, const std::string& modelName, const std::array<double, 3>& eyeArray,
+      double eye[3], const double focus[3]) {
+      for (const auto& mode : BudgetModes())
+      {
+        plod::SelectionInput in = scene.Look(eye, focus);
+        mode.second(in);
+        const std::string what =
+          modelName + " " + mode.first + " eye " + std::to_string(eyeArray[0]);
+        plod::SelectionStats serialStats;
+        scene.Kernel.SetParallelFor(nullptr);
+        scene.Kernel.Select(
+          in, scene.State.data(), scene.Reason.data(), scene.Mask.data(), serialStats);
+        const std::vector<uint8_t> state = scene.State, reason = scene.Reason, mask = scene.Mask;
+        for (int run = 0; run < 5; ++run)
+        {
+          plod::Selector parallel;
+          parallel.SetOctree(scene.View);
+          if (run == 0)
+            parallel.SetParallelFor(plod::SerialFor);
+          else if (run == 1)
+            parallel.SetParallelFor(backwards);
+          else
+          {
+            vtkSMPTools::Initialize(run == 2 ? 1 : run == 3 ? 2 : 8);
+            parallel.SetParallelFor(smp);
+          }
+          std::vector<uint8_t> s(state.size(), 0), r(state.size(), 0), m(state.size(), 0);
+          plod::SelectionStats stats;
+          parallel.Select(in, s.data(), r.data(), m.data(), stats);
+          ASSERT_EQ(s, state) << what << " run " << run;
+          ASSERT_EQ(r, reason) << what << " run " << run;
+          ASSERT_EQ(m, mask) << what << " run " << run;
+          EXPECT_EQ(stats.Visited, serialStats.Visited) << what;
+          EXPECT_EQ(stats.InCut, serialStats.InCut) << what;
+          EXPECT_EQ(stats.Drawn, serialStats.Drawn) << what;
+          EXPECT_EQ(stats.Opened, serialStats.Opened) << what;
+          EXPECT_EQ(stats.TopologyRefined, serialStats.TopologyRefined) << what;
+          EXPECT_EQ(stats.FoveationFactors, serialStats.FoveationFactors) << what;
+          EXPECT_EQ(stats.BudgetTriangles, serialStats.BudgetTriangles) << what;
+          // the next frame clears exactly this cut (its list of cut nodes is complete)
+          in.Eye[0] += 0.01;
+          plod::SelectionStats next;
+          parallel.SetParallelFor(nullptr);
+          parallel.Select(in, s.data(), r.data(), m.data(), next);
+          std::string why;
+          EXPECT_TRUE(plod::ValidateCut(scene.View, s.data(), &why)) << what << ": " << why;
+          in.Eye[0] -= 0.01;
+          ++cases;
+        }
+      }
+    });
+  vtkSMPTools::Initialize(0);
+  EXPECT_GT(cases, 300);
 }
