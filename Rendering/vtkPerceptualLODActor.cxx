@@ -256,6 +256,7 @@ vtkPerceptualLODRenderBinding* vtkPerceptualLODActor::MakeBinding(vtkRenderer* r
     entry.Binding = vtkPerceptualLODRenderBinding::New();
     entry.Binding->EnabledOff(); // no observer: the actor pushes while it renders
     entry.Binding->SetSelector(this->Selector);
+    entry.Binding->SetClock(this->Clock);
     // the binding goes with the renderer: no stale entry, none found again by a new renderer
     // at the same address
     entry.Renderer = renderer;
@@ -274,6 +275,16 @@ void vtkPerceptualLODActor::RendererDeleted(vtkObject* caller, unsigned long, vo
   {
     it->second.Binding->Delete();
     self->Bindings.erase(it);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::SetClock(std::function<double()> clock)
+{
+  this->Clock = std::move(clock);
+  for (auto& entry : this->Bindings)
+  {
+    entry.second.Binding->SetClock(this->Clock);
   }
 }
 

@@ -51,8 +51,9 @@
 #include "PerceptualLODRenderingModule.h" // for export macro
 #include "vtkActor.h"
 
-#include <map>    // for the per-renderer state
-#include <memory> // for the per-renderer state
+#include <functional> // for the clock
+#include <map>        // for the per-renderer state
+#include <memory>     // for the per-renderer state
 
 class vtkAlgorithmOutput;
 class vtkCallbackCommand;
@@ -123,6 +124,15 @@ public:
   vtkGetMacro(DrewOnGPU, bool);
   ///@}
 
+#ifndef __VTK_WRAP__
+  /**
+   * The clock every binding of the actor reads (vtkPerceptualLODRenderBinding::SetClock;
+   * default: the wall clock): a test drives the frame-time target and the motion models on a
+   * simulated clock with it.
+   */
+  void SetClock(std::function<double()> clock);
+#endif
+
   /// The binding that feeds the selector for `renderer` (null before it first rendered there).
   /// It lives as long as the renderer (see GetNumberOfBindings()).
   vtkPerceptualLODRenderBinding* GetBinding(vtkRenderer* renderer);
@@ -184,6 +194,9 @@ protected:
   int DrawPath = DRAW_PATH_CPU;
   bool DrewOnGPU = false;
   bool WarnedFallback = false;
+#ifndef __VTK_WRAP__
+  std::function<double()> Clock;
+#endif
   bool InputIsOctree = false;
   double TargetFrameTime = 0;
   double ModelBounds[6];

@@ -203,7 +203,7 @@ void vtkPerceptualLODRenderBinding::OnWindowEnd(
   }
   if (self->FrameStarted)
   {
-    self->LastFrameCost = vtkTimerLog::GetUniversalTime() - self->PreviousStart;
+    self->LastFrameCost = self->Now() - self->PreviousStart;
     self->FrameCostPending = true;
     self->FrameStarted = false;
   }
@@ -251,6 +251,18 @@ void vtkPerceptualLODRenderBinding::SetTargetFrameTime(double seconds)
     }
     this->Modified();
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::SetClock(std::function<double()> clock)
+{
+  this->Clock = std::move(clock);
+}
+
+//------------------------------------------------------------------------------
+double vtkPerceptualLODRenderBinding::Now() const
+{
+  return this->Clock ? this->Clock() : vtkTimerLog::GetUniversalTime();
 }
 
 //------------------------------------------------------------------------------
@@ -322,7 +334,7 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
   {
     return;
   }
-  const double start = vtkTimerLog::GetUniversalTime();
+  const double start = this->Now();
   vtkCamera* camera = ren->GetActiveCamera();
 
   // ---- view, in world coordinates, with the prop's matrix as object -> world -------------------
@@ -469,7 +481,7 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
     this->FrameStarted = true;
   }
   ++this->NumberOfUpdates;
-  this->LastUpdateTime = vtkTimerLog::GetUniversalTime() - start;
+  this->LastUpdateTime = this->Now() - start;
 }
 
 //------------------------------------------------------------------------------

@@ -60,6 +60,8 @@
 #include "PerceptualLODRenderingModule.h" // for export macro
 #include "vtkObject.h"
 
+#include <functional> // for the clock
+
 class vtkCallbackCommand;
 class vtkPerceptualLODSelector;
 class vtkProp3D;
@@ -131,6 +133,16 @@ public:
   vtkBooleanMacro(ExternalSteering, bool);
   ///@}
 
+#ifndef __VTK_WRAP__
+  /**
+   * The clock the binding reads (seconds; default: the wall clock, vtkTimerLog's universal
+   * time). Frame costs, the frame interval the motion models use and the push's own time are
+   * measured on it, so that a test drives the frame-time target and the motion models on a
+   * simulated clock. An empty function restores the wall clock.
+   */
+  void SetClock(std::function<double()> clock);
+#endif
+
   /// The cost of the last frame measured and not yet steered with (s), which is then forgotten;
   /// 0 when there is none (the first frame, a frame that did not finish, or one already used).
   double TakeFrameCost();
@@ -196,6 +208,11 @@ protected:
   vtkIdType MinimumTriangleBudget; // 1000
   vtkIdType MaximumTriangleBudget; // VTK_ID_MAX
   double LastFrameCost = 0;
+#ifndef __VTK_WRAP__
+  std::function<double()> Clock;
+  /// The clock's time now (SetClock).
+  double Now() const;
+#endif
   bool FrameCostPending = false;
   bool FrameStarted = false;
   vtkIdType TargetBudget = 0;

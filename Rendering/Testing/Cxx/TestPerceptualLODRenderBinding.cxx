@@ -482,3 +482,42 @@ TEST(PerceptualLODRenderBinding, StanfordBunnyFollowsTheRenderedCamera)
   EXPECT_LT(triangles(), ipvSlow);
   EXPECT_TRUE(selector->GetOutput()->HasValidCut());
 }
+
+// Time from outside: on a simulated clock, the frame interval the motion models get and the
+// frame cost the target steers with are the clock's, exactly.
+TEST(PerceptualLODRenderBinding, SimulatedClockGivesTheFrameIntervalAndCost)
+{
+  Scene s;
+  s.Selector->SetMotionModelToMicroMotion(); // the motion models read the frame interval
+  double now = 50.0;
+  s.Binding->SetClock([&now]() { return now; });
+  vtkCamera* camera = s.Renderer->GetActiveCamera();
+  s.Window->Render();
+  for (int frame = 1; frame <= 5; ++frame)
+  {
+    now += 0.025 * frame; // frames of 25, 50, ... ms
+    camera->Azimuth(1.0);
+    s.Window->Render();
+    EXPECT_NEAR(s.Binding->GetMeasuredFrameTime(), 0.025 * frame, 1e-12) << "frame " << frame;
+    EXPECT_NEAR(s.Selector->GetPreviousFrameTime(), 0.025 * frame, 1e-12) << "frame " << frame;
+  }
+  // the frame cost: from the push to the end of the window's frame, on the same clock
+  s.Binding->SetTargetFrameTime(0.1);
+  vtkNew<vtkCallbackCommand> cost;
+  cost->SetClientData(&now);
+  cost->SetCallback(
+    [](vtkObject*, unsigned long, void* client, void*) { *static_cast<double*>(client) += 0.04; });
+  s.Patches->AddObserver(vtkCommand::EndEvent, cost);
+  for (int frame = 0; frame < 3; ++frame)
+  {
+    camera->Azimuth(1.0);
+    s.Window->Render();
+  }
+  EXPECT_NEAR(s.Binding->GetLastFrameCost(), 0.04, 1e-12);
+  // the wall clock again
+  s.Binding->SetClock(nullptr);
+  camera->Azimuth(1.0);
+  s.Window->Render();
+  EXPECT_GT(s.Binding->GetMeasuredFrameTime(), 1e6)
+    << "the wall clock (seconds since 1970) is far ahead of the simulated one";
+}
