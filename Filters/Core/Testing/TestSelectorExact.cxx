@@ -382,6 +382,36 @@ TEST(SelectorExact, BrightnessChangeUsesMinimumAndMaximumReflectance)
   EXPECT_EQ(one.RootReason(plain), plod::ReasonNone);
 }
 
+TEST(SelectorExact, DiffuseTermWithAZeroMinimumReflectanceIsTheBrightestPart)
+{
+  // A cell holding an unlit-black part (minimum diffuse reflectance 0) and a part of reflectance
+  // 0.6 varies by M_max L c_max - 0 = 0.6, the brightest part alone: the term is kept, not
+  // skipped for its zero minimum nor read from the maximum alone.
+  Tiny t;
+  t.Shape[0] = 0;
+  t.Diffuse[0] = 0.0f; // the root's diffuse reflectance lies in [0, 0.6]
+  t.Diffuse[1] = 0.6f;
+  // one light along the axis, the eye on it: c_max = 1; dB = 0.6 over 1000 / d pixels against
+  // T_b = 4: accepted from d = 0.6 x 250 = 150 on
+  const double boundary = double(0.6f) * 1000 / 4;
+  auto lit = [](double d) {
+    auto in = Above(d);
+    in.UseOctreeMaterial = true;
+    in.Lights.push_back(plod::SelectorLight{ false, { 0, 0, 1 }, 1, 0 });
+    return in;
+  };
+  EXPECT_EQ(t.RootReason(lit(boundary - 0.2)), plod::ReasonNone);
+  EXPECT_EQ(t.RootReason(lit(boundary + 0.2)), plod::AcceptedBrightness);
+  // a light of diffuse intensity 0.5 halves the variation: the boundary moves to d = 75
+  auto dim = [&](double d) {
+    auto in = lit(d);
+    in.Lights[0].Diffuse = 0.5;
+    return in;
+  };
+  EXPECT_EQ(t.RootReason(dim(boundary / 2 - 0.2)), plod::ReasonNone);
+  EXPECT_EQ(t.RootReason(dim(boundary / 2 + 0.2)), plod::AcceptedBrightness);
+}
+
 // ---- SRCC §3.5 step 3: children of a brightness failure are tested for brightness only -------
 
 TEST(SelectorExact, BrightnessRefinementSkipsTheContourTests)

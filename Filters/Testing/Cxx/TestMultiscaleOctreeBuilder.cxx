@@ -627,6 +627,89 @@ TEST(MultiscaleOctreeBuilder, OppositeNormalsGiveConeOfPi)
     EXPECT_NEAR(b.View.ConeAngle[n], Pi, 1e-6) << n;
 }
 
+TEST(MultiscaleOctreeBuilder, MultiClusterConeAxisIsTheAreaWeightedMeanNormal)
+{
+  // two separate pieces in the root cell (two clusters): a unit square facing +z (area 1) and a
+  // triangle facing +x (area 0.25). The root's axis is the area-weighted mean normal of both,
+  // (0.25, 0, 1) normalised; their plain mean (1, 0, 1) / sqrt 2 or one piece's normal is wrong.
+  auto mesh =
+    plodtest::MakeMesh({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 2, 0, 0, 2, 1, 0, 2, 0, 0.5 },
+      { 0, 1, 2, 0, 2, 3, 4, 5, 6 });
+  Built b = Build(mesh, 2);
+  CheckOctree(b, "two pieces", false);
+  const plod::OctreeView& v = b.View;
+  ASSERT_EQ(v.ClusterEnd(0) - v.FirstCluster[0], 2) << "one cluster per piece";
+  const double len = std::sqrt(0.25 * 0.25 + 1.0);
+  EXPECT_NEAR(v.ConeAxis[0], 0.25 / len, 1e-5);
+  EXPECT_NEAR(v.ConeAxis[1], 0.0, 1e-5);
+  EXPECT_NEAR(v.ConeAxis[2], 1.0 / len, 1e-5);
+}
+
+TEST(MultiscaleOctreeBuilder, FlatTubeThicknessReadsTheMiddleEigenvalue)
+{
+  // An open tube along x of elliptic cross-section, semi-axes a = 0.06 (y) and b = 0.02 (z),
+  // 16 points per ring: a cell holding whole rings is an annulus (not safe). Its points'
+  // covariance has y variance a^2 / 2 (the middle eigenvalue: the x extent is larger, the z one
+  // smaller), so its thickness is 2 sqrt(2 a^2 / 2) = 2a = 0.12; the smallest eigenvalue would
+  // give 2b = 0.04, the largest the length of tube in the cell.
+  const double a = 0.06, c = 0.02;
+  const int nu = 33, nv = 16;
+  std::vector<double> xyz;
+  std::vector<vtkIdType> tri;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j)
+    {
+      const double t = 2 * Pi * j / nv;
+      // rings at x = 0.03 + 0.029 i: none on a cell boundary (multiples of 0.25)
+      xyz.insert(xyz.end(), { 0.03 + 0.029 * i, 0.375 + a * std::cos(t), 0.375 + c * std::sin(t) });
+    }
+  for (int i = 0; i + 1 < nu; ++i)
+    for (int j = 0; j < nv; ++j)
+    {
+      const vtkIdType p = i * nv + j, q = i * nv + (j + 1) % nv;
+      tri.insert(tri.end(), { p, p + nv, q + nv, p, q + nv, q });
+    }
+  auto tube = plodtest::MakeMesh(xyz, tri);
+  // root cube [0, 1]^3, level 2 (cells of 0.25): the tube (y in [0.315, 0.435], z in [0.355,
+  // 0.395]) lies in one row of level-2 cells, each holding whole rings
+  const double origin[3] = { 0, 0, 0 };
+  Built b = plodcheck::BuildInCube(tube, origin, 1.0, 2);
+  CheckOctree(b, "flat tube");
+  const plod::OctreeView& v = b.View;
+  int checked = 0;
+  for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+  {
+    if (v.Flags[n] & plod::NodeTopologySafe)
+      continue;
+    // 2 sqrt(2 l2), l2 the middle eigenvalue of the covariance of the cell's points
+    const int64_t p0 = v.FirstPoint[n], p1 = v.PointEnd(n);
+    ASSERT_GE(p1 - p0, 3) << n;
+    double mean[3] = { 0, 0, 0 }, cov[3][3] = { { 0 } };
+    for (int64_t p = p0; p < p1; ++p)
+      for (int r = 0; r < 3; ++r)
+        mean[r] += v.Points[3 * p + r] / double(p1 - p0);
+    for (int64_t p = p0; p < p1; ++p)
+      for (int r = 0; r < 3; ++r)
+        for (int s = 0; s < 3; ++s)
+          cov[r][s] +=
+            (v.Points[3 * p + r] - mean[r]) * (v.Points[3 * p + s] - mean[s]) / double(p1 - p0);
+    double* rows[3] = { cov[0], cov[1], cov[2] };
+    double w[3], e0[3], e1[3], e2[3];
+    double* vectors[3] = { e0, e1, e2 };
+    vtkMath::Jacobi(rows, w, vectors); // w in decreasing order
+    const double expected = 2 * std::sqrt(2 * w[1]);
+    EXPECT_NEAR(v.Thickness[n], expected, 1e-4 * expected) << "node " << n;
+    if (v.Level[n] == 2)
+    {
+      EXPECT_NEAR(v.Thickness[n], 2 * a, 1e-5) << "node " << n;
+      EXPECT_NEAR(2 * std::sqrt(2 * w[2]), 2 * c, 1e-5) << "the smallest eigenvalue is z's";
+      EXPECT_GT(2 * std::sqrt(2 * w[0]), 1.25 * 2 * a) << "the largest eigenvalue is x's";
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 4) << "the four level-2 cells along the tube are annuli";
+}
+
 TEST(MultiscaleOctreeBuilder, TinyAndFarModelsKeepTheirPrecision)
 {
   // a blob of size 1e-6 at 1e6 from the origin, and one of size 1e6: the surface keeps each

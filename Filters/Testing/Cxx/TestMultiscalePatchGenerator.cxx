@@ -366,6 +366,65 @@ TEST(MultiscalePatchGenerator, OrientationIsKept)
   }
 }
 
+TEST(MultiscalePatchGenerator, ParallelBackFaceCullingFollowsTheProjectionDirection)
+{
+  // A closed cube at full resolution seen along the projection direction dop = (1, -2, -3): a
+  // triangle is culled exactly when its face normal has a positive component along dop (it faces
+  // away from the viewer): the +x, -y and -z faces, 6 of 12. The eye, read by a perspective
+  // projection only, is put inside the cube, from where every face would face away.
+  auto cube = plodtest::MakeCube(0, 1);
+  Built b = Build(cube, 2);
+  const plod::OctreeView& v = b.View;
+  std::vector<uint8_t> cut(v.NumberOfNodes);
+  plod::UniformCut(v, -1, cut.data());
+  plod::PatchOptions options;
+  options.Folds = plod::FoldHandling::Keep;
+  options.CullBackFaces = true;
+  options.Parallel = true;
+  const double dop[3] = { 1, -2, -3 };
+  const double* o = b.Octree->GetOrigin();
+  for (int a = 0; a < 3; ++a)
+  {
+    options.ProjectionDirection[a] = dop[a];
+    options.Eye[a] = 0.5 - o[a];
+  }
+  plod::PatchResult r;
+  std::string why;
+  ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, r, &why, nullptr, options)) << why;
+  std::multiset<std::array<int64_t, 3>> drawn, want;
+  for (size_t k = 0; k + 2 < r.Triangles.size(); k += 3)
+  {
+    int64_t id[3];
+    for (int c = 0; c < 3; ++c)
+    {
+      const int64_t source = r.PointSource[r.Triangles[k + c]];
+      ASSERT_LT(source, 0) << "every leaf is opened: surface points only";
+      id[c] = v.InputPointId[-1 - source];
+    }
+    drawn.insert(plodcheck::Canonical(id[0], id[1], id[2]));
+  }
+  for (vtkIdType c = 0; c < cube->GetNumberOfCells(); ++c)
+  {
+    vtkIdType n;
+    const vtkIdType* p;
+    cube->GetPolys()->GetCellAtId(c, n, p);
+    double x[3][3], e1[3], e2[3], normal[3];
+    for (int k = 0; k < 3; ++k)
+      cube->GetPoint(p[k], x[k]);
+    for (int a = 0; a < 3; ++a)
+    {
+      e1[a] = x[1][a] - x[0][a];
+      e2[a] = x[2][a] - x[0][a];
+    }
+    vtkMath::Cross(e1, e2, normal);
+    if (vtkMath::Dot(normal, dop) <= 0)
+      want.insert(plodcheck::Canonical(p[0], p[1], p[2]));
+  }
+  EXPECT_EQ(want.size(), 6u);
+  EXPECT_EQ(drawn, want);
+  EXPECT_EQ(r.BackFacesCulled, 6);
+}
+
 TEST(MultiscalePatchGenerator, FoldsAreDroppedOrGivenReversedNormalsAndNothingElse)
 {
   // the turned-over triangles are exactly those whose face normal opposes all three corner

@@ -756,6 +756,141 @@ TEST(PerceptualLODSelector, TheViewReachesTheKernelAsComputedByHand)
   EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), kernelCut(in));
 }
 
+namespace
+{
+/// The kernel's cut states for `in` on `view`.
+std::vector<uint8_t> KernelCut(const plod::OctreeView& view, const plod::SelectionInput& in)
+{
+  plod::Selector s;
+  s.SetOctree(view);
+  std::vector<uint8_t> state(view.NumberOfNodes, 0), reason(view.NumberOfNodes, 0);
+  plod::SelectionStats stats;
+  s.Select(in, state.data(), reason.data(), nullptr, stats);
+  return state;
+}
+
+/// How many nodes have another state in `a` than in `b` (all of them for different sizes).
+int64_t StatesThatDiffer(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b)
+{
+  if (a.size() != b.size())
+    return static_cast<int64_t>(std::max(a.size(), b.size()));
+  int64_t n = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    n += a[i] != b[i];
+  return n;
+}
+} // namespace
+
+TEST(PerceptualLODSelector, ChengObjectFoveationHeightIsTheRootEdge)
+{
+  // Cheng's object mode normalises the vertical distance |Y - F_y| by a height H; the filter
+  // passes the root cell's edge. Its cut is the kernel's for H = RootEdge, node for node, on a
+  // scene whose cut changes with H (H = 2 RootEdge gives another cut).
+  Pipeline p(plodtest::MakeBlob(5, 40, 0.3), 6);
+  p.Builder->Update();
+  vtkMultiscaleOctree* o = p.Builder->GetOutput();
+  plod::OctreeView view;
+  ASSERT_TRUE(o->GetView(view));
+  const double* org = view.Origin;
+  const double half = 0.5 * view.RootEdge;
+  // the eye beside the model, the point of interest above the root cell's top, z vertical
+  const double eye[3] = { org[0] + half, org[1] + half - 6, org[2] + half };
+  const double fovea[3] = { org[0] + half + 0.2, org[1] + half, org[2] + view.RootEdge };
+  vtkPerceptualLODSelector* sel = p.Selector;
+  sel->SetErrorModelToCheng();
+  sel->SetFoveationModeToObject();
+  sel->SetFoveationRate(3);
+  sel->SetFoveationUp(0, 0, 1);
+  sel->SetFoveationPoint(fovea[0], fovea[1], fovea[2]);
+  sel->SetEyePosition(eye[0], eye[1], eye[2]);
+  sel->SetViewportSize(800, 600);
+
+  plod::SelectionInput in;
+  in.Error = plod::ErrorModel::Cheng;
+  in.Foveation = plod::FoveationMode::Object;
+  in.FoveationRate = 3;
+  in.FoveationUp[0] = 0;
+  in.FoveationUp[1] = 0;
+  in.FoveationUp[2] = 1;
+  for (int a = 0; a < 3; ++a)
+  {
+    in.Eye[a] = eye[a] - org[a];
+    in.FoveationPoint[a] = fovea[a] - org[a];
+    in.FoveationCentre[a] = half; // the vertical axis through the root cell's centre
+  }
+  in.HideBackFaces = o->GetNumberOfBoundaryEdges() == 0;
+  in.PixelScale = 300.0 / std::tan(15.0 * vtkMath::Pi() / 180.0);
+  in.FoveationHeight = view.RootEdge;
+  const auto expected = KernelCut(view, in);
+  EXPECT_EQ(StatesThatDiffer(p.Array(vtkMultiscaleOctree::CutStateArrayName()), expected), 0)
+    << "nodes whose state is not the kernel's for H = RootEdge";
+  in.FoveationHeight = 2 * view.RootEdge;
+  EXPECT_GT(StatesThatDiffer(KernelCut(view, in), expected), 0)
+    << "the scene must be one where H matters";
+}
+
+TEST(PerceptualLODSelector, WangSatoAngleUnderAParallelProjection)
+{
+  // Distance model with a parallel projection: the view angle is the one the parallel view's
+  // height subtends at the root centre's distance, 2 atan(ParallelScale / d). Root cube of edge 4
+  // centred at the origin, eye at d = 100 on +z, parallel scale 100, 600 pixels high: angle
+  // 2 atan(1) = 90 degrees, cell edge limit 2 sin(45 deg) 100 / 600 = 0.2357: level 5 (edge
+  // 0.125; level 4's 0.25 is larger). (A perspective camera's 30 degrees would give 0.0863:
+  // level 6.)
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(plodtest::MakeBlob(5, 40, 0.3));
+  builder->SetFinestLevel(6);
+  builder->UseGivenRootCubeOn();
+  builder->SetRootCubeOrigin(-2, -2, -2);
+  builder->SetRootCubeEdge(4);
+  vtkNew<vtkPerceptualLODSelector> sel;
+  sel->SetInputConnection(builder->GetOutputPort());
+  builder->Update();
+  plod::OctreeView view;
+  ASSERT_TRUE(builder->GetOutput()->GetView(view));
+  ASSERT_EQ(view.RootEdge, 4.0);
+  sel->SetErrorModelToDistance();
+  sel->ParallelProjectionOn();
+  sel->SetParallelScale(100);
+  sel->SetProjectionDirection(0, 0, -1);
+  sel->SetEyePosition(0, 0, 100);
+  sel->SetViewAngle(30); // read by a perspective camera only
+  sel->SetViewportSize(800, 600);
+  sel->Update();
+  EXPECT_NEAR(2 * std::sin(0.5 * 2 * std::atan(100.0 / 100.0)) * 100 / 600, 0.2357, 1e-4);
+  EXPECT_EQ(sel->GetDistanceLevel(), 5);
+
+  // the cut is the kernel's at that level: no drawn cell coarser than level 5, some at 5
+  plod::SelectionInput in;
+  in.Error = plod::ErrorModel::Distance;
+  in.DistanceLevel = 5;
+  in.Parallel = true;
+  in.PixelScale = 0.5 * 600 / 100.0;
+  in.ProjectionDirection[0] = in.ProjectionDirection[1] = 0;
+  in.ProjectionDirection[2] = -1;
+  in.Eye[0] = in.Eye[1] = 2;
+  in.Eye[2] = 102;
+  const auto expected = KernelCut(view, in);
+  auto* state = vtkUnsignedCharArray::SafeDownCast(
+    sel->GetOutput()->GetNodeData()->GetArray(vtkMultiscaleOctree::CutStateArrayName()));
+  ASSERT_TRUE(state);
+  EXPECT_EQ(StatesThatDiffer(std::vector<uint8_t>(state->GetPointer(0),
+                               state->GetPointer(0) + state->GetNumberOfTuples()),
+              expected),
+    0)
+    << "nodes whose state is not the kernel's at level 5";
+  int atFive = 0;
+  for (int64_t n = 0; n < view.NumberOfNodes; ++n)
+  {
+    if (state->GetValue(n) == plod::CutDrawn)
+    {
+      EXPECT_GE(int(view.Level[n]), 5) << n;
+      atFive += view.Level[n] == 5;
+    }
+  }
+  EXPECT_GT(atFive, 0);
+}
+
 // ---- extremes
 // ------------------------------------------------------------------------------------
 
