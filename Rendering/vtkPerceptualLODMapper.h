@@ -31,7 +31,9 @@
  * IsSupported() tells whether a render window has them; vtkPerceptualLODActor falls back to the
  * CPU path with a warning naming the missing feature.
  *
- * @warning Hardware picking and the value pass see the whole surface, not the cut.
+ * @warning Hardware picking and the value pass see the whole surface, not the cut. Ghost flags
+ * (PointGhost, a distributed build) are not honoured: every triangle of the cut is drawn, so
+ * under MPI the ParaView representation keeps the CPU path.
  *
  * @sa vtkPerceptualLODActor vtkMultiscalePatchGenerator vtkPerceptualLODSelector
  */
