@@ -6,6 +6,7 @@
 Interactive: rotate with the mouse; the actor selects its cut again for every view. With
 --offscreen (run it under `xvfb-run -a`), it orbits for 30 frames and prints the triangles drawn.
 """
+import os
 import sys
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401
@@ -14,9 +15,23 @@ from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkIOPLY import vtkPLYReader
 from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkRenderWindowInteractor
 
-from perceptual_lod import vtkMultiscaleOctreeReader, vtkPerceptualLODActor
+from perceptual_lod import vtkMultiscaleOctreeReader, vtkPerceptualLODActor, vtkPLYFileCheck
 
-args = [a for a in sys.argv[1:] if not a.startswith('--')]
+
+def checked(path):
+    """`path` if a reader may open it: a regular file (a FIFO would make the reader wait forever)
+    that, for PLY, vtkPLYFileCheck accepts (VTK's PLY reader crashes on some damaged files)."""
+    if not os.path.isfile(path):
+        sys.exit(f'{path}: missing, or not a regular file (a directory, a FIFO or a device)')
+    if path.lower().endswith('.ply'):
+        check = vtkPLYFileCheck()
+        check.SetFileName(path)
+        if not check.Check():
+            sys.exit(f'{path}: {check.GetErrorMessage()}')
+    return path
+
+
+args = [checked(a) for a in sys.argv[1:] if not a.startswith('--')]
 if args and vtkMultiscaleOctreeReader.CanReadFile(args[0]):
     source = vtkMultiscaleOctreeReader()  # a saved octree: nothing to build
     source.SetFileName(args[0])
