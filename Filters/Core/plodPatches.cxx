@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -596,8 +597,18 @@ int64_t ChangedSpans(const uint8_t* before, const uint8_t* now, int64_t n, int64
 {
   spans.clear();
   int64_t bytes = 0;
+  constexpr int64_t Block = 64;
   for (int64_t i = 0; i < n;)
   {
+    // equal stretches (most of the state on a small move) skipped a block at a time
+    while (i + Block <= n && std::memcmp(before + i, now + i, Block) == 0)
+    {
+      i += Block;
+    }
+    if (i >= n)
+    {
+      break;
+    }
     if (before[i] == now[i])
     {
       ++i;
