@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Validation of PLY files (Turk 1994) before a reader trusts them. See plodPLYCheck.h.
 #include "plodPLYCheck.h"
+#include "plodPLYIO.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -19,33 +20,7 @@ namespace plod
 {
 namespace
 {
-
-struct TypeInfo
-{
-  const char* Name;
-  const char* Alias;
-  int Size;
-  bool Integer;
-  int64_t Min; ///< range of an integer type
-  int64_t Max;
-};
-
-// indexed by PLYType
-constexpr TypeInfo Types[] = {
-  { "char", "int8", 1, true, -128, 127 },
-  { "uchar", "uint8", 1, true, 0, 255 },
-  { "short", "int16", 2, true, -32768, 32767 },
-  { "ushort", "uint16", 2, true, 0, 65535 },
-  { "int", "int32", 4, true, -2147483648LL, 2147483647LL },
-  { "uint", "uint32", 4, true, 0, 4294967295LL },
-  { "float", "float32", 4, false, 0, 0 },
-  { "double", "float64", 8, false, 0, 0 },
-};
-
-const TypeInfo& Info(PLYType t)
-{
-  return Types[static_cast<int>(t)];
-}
+using namespace plyio;
 
 bool ParseType(const std::string& word, PLYType* type)
 {
@@ -76,12 +51,6 @@ std::string Quote(const std::string& word)
   return s + "'";
 }
 
-/// Word separators of Turk's reader (it turns tabs and carriage returns into spaces).
-bool IsBlank(int c)
-{
-  return c == ' ' || c == '\t' || c == '\r';
-}
-
 /// Splits a header line into words separated by blanks.
 std::vector<std::string> Words(const std::string& line)
 {
@@ -107,241 +76,6 @@ std::vector<std::string> Words(const std::string& line)
   return words;
 }
 
-/// A decimal integer (optional sign, digits only); false when it is not one or overflows.
-bool ParseInteger(const char* begin, const char* end, int64_t* value)
-{
-  if (begin != end && *begin == '+')
-  {
-    ++begin;
-    if (begin != end && *begin == '-')
-    {
-      return false;
-    }
-  }
-  if (begin == end)
-  {
-    return false;
-  }
-  const auto r = std::from_chars(begin, end, *value, 10);
-  return r.ec == std::errc() && r.ptr == end;
-}
-
-/// A decimal floating-point number (nan and inf included); false when it is not one.
-/// Out-of-range magnitudes are numbers (a reader makes them infinite or zero).
-bool ParseReal(const char* begin, const char* end, double* value)
-{
-  if (begin != end && *begin == '+')
-  {
-    ++begin;
-    if (begin != end && *begin == '-')
-    {
-      return false;
-    }
-  }
-  if (begin == end)
-  {
-    return false;
-  }
-  const auto r = std::from_chars(begin, end, *value, std::chars_format::general);
-  return (r.ec == std::errc() || r.ec == std::errc::result_out_of_range) && r.ptr == end;
-}
-
-bool HostIsLittleEndian()
-{
-  const uint16_t one = 1;
-  unsigned char b;
-  std::memcpy(&b, &one, 1);
-  return b == 1;
-}
-
-/// A binary value of type `t` (bytes in file order) as a double: exact for every integer type.
-double Decode(const unsigned char* bytes, PLYType t, bool swap)
-{
-  unsigned char b[8];
-  const int n = Info(t).Size;
-  for (int i = 0; i < n; ++i)
-  {
-    b[i] = swap ? bytes[n - 1 - i] : bytes[i];
-  }
-  switch (t)
-  {
-    case PLYType::Int8:
-    {
-      int8_t v;
-      std::memcpy(&v, b, 1);
-      return v;
-    }
-    case PLYType::UInt8:
-      return b[0];
-    case PLYType::Int16:
-    {
-      int16_t v;
-      std::memcpy(&v, b, 2);
-      return v;
-    }
-    case PLYType::UInt16:
-    {
-      uint16_t v;
-      std::memcpy(&v, b, 2);
-      return v;
-    }
-    case PLYType::Int32:
-    {
-      int32_t v;
-      std::memcpy(&v, b, 4);
-      return v;
-    }
-    case PLYType::UInt32:
-    {
-      uint32_t v;
-      std::memcpy(&v, b, 4);
-      return v;
-    }
-    case PLYType::Float32:
-    {
-      float v;
-      std::memcpy(&v, b, 4);
-      return v;
-    }
-    case PLYType::Float64:
-    {
-      double v;
-      std::memcpy(&v, b, 8);
-      return v;
-    }
-  }
-  return 0;
-}
-
-/// The file, read forward through a fixed buffer.
-class Input
-{
-public:
-  ~Input()
-  {
-    if (this->File)
-    {
-      std::fclose(this->File);
-    }
-  }
-
-  bool Open(const std::string& path, std::string* why)
-  {
-    struct stat st;
-    if (path.empty())
-    {
-      *why = "no file name given";
-      return false;
-    }
-    if (stat(path.c_str(), &st) != 0)
-    {
-      *why = std::string("cannot open: ") + std::strerror(errno);
-      return false;
-    }
-    if (S_ISDIR(st.st_mode))
-    {
-      *why = "is a directory, not a PLY file";
-      return false;
-    }
-    if (!S_ISREG(st.st_mode))
-    {
-      *why = "is not a regular file";
-      return false;
-    }
-    this->File = std::fopen(path.c_str(), "rb");
-    if (!this->File)
-    {
-      *why = std::string("cannot open: ") + std::strerror(errno);
-      return false;
-    }
-    this->FileSize = static_cast<int64_t>(st.st_size);
-    this->Buffer.reset(new unsigned char[BufferSize]);
-    return true;
-  }
-
-  int64_t Size() const { return this->FileSize; }
-  int64_t Offset() const { return this->BufferStart + static_cast<int64_t>(this->Pos); }
-  int64_t Left() const { return this->FileSize - this->Offset(); }
-
-  /// The next byte, or -1 at the end of the file.
-  int Get()
-  {
-    if (this->Pos == this->End && !this->Fill())
-    {
-      return -1;
-    }
-    return this->Buffer[this->Pos++];
-  }
-
-  /// The next byte without consuming it, or -1 at the end of the file.
-  int Peek()
-  {
-    if (this->Pos == this->End && !this->Fill())
-    {
-      return -1;
-    }
-    return this->Buffer[this->Pos];
-  }
-
-  /// Reads exactly n bytes (n <= 8) into dst; false at the end of the file.
-  bool Read(unsigned char* dst, int n)
-  {
-    if (this->End - this->Pos >= static_cast<size_t>(n))
-    {
-      std::memcpy(dst, this->Buffer.get() + this->Pos, n);
-      this->Pos += n;
-      return true;
-    }
-    for (int i = 0; i < n; ++i)
-    {
-      const int c = this->Get();
-      if (c < 0)
-      {
-        return false;
-      }
-      dst[i] = static_cast<unsigned char>(c);
-    }
-    return true;
-  }
-
-  /// Moves n >= 0 bytes forward (the caller has checked that they are in the file).
-  bool Skip(int64_t n)
-  {
-    if (static_cast<int64_t>(this->End - this->Pos) >= n)
-    {
-      this->Pos += static_cast<size_t>(n);
-      return true;
-    }
-    const int64_t target = this->Offset() + n;
-    if (fseeko(this->File, static_cast<off_t>(target), SEEK_SET) != 0)
-    {
-      return false;
-    }
-    this->BufferStart = target;
-    this->Pos = this->End = 0;
-    return true;
-  }
-
-private:
-  static constexpr size_t BufferSize = 1 << 16;
-
-  bool Fill()
-  {
-    this->BufferStart += static_cast<int64_t>(this->End);
-    this->Pos = this->End = 0;
-    const size_t n = std::fread(this->Buffer.get(), 1, BufferSize, this->File);
-    this->End = n;
-    return n > 0;
-  }
-
-  std::FILE* File = nullptr;
-  std::unique_ptr<unsigned char[]> Buffer;
-  size_t Pos = 0;
-  size_t End = 0;
-  int64_t BufferStart = 0;
-  int64_t FileSize = 0;
-};
-
 /// What a list property is checked for.
 enum class ListRole
 {
@@ -360,7 +94,9 @@ public:
   {
   }
 
-  bool Run(const std::string& path)
+  /// Checks the file; with `headerOnly`, only its header (and its size against the header's
+  /// rows of fixed size), not the body.
+  bool Run(const std::string& path, bool headerOnly = false)
   {
     if (!this->In.Open(path, this->Why))
     {
@@ -376,6 +112,10 @@ public:
       return false;
     }
     this->Summary->HeaderBytes = this->In.Offset();
+    if (headerOnly)
+    {
+      return this->CheckBodyAtLeastFixedRows();
+    }
     const bool ok =
       this->Summary->Format == PLYFormat::ASCII ? this->CheckASCIIBody() : this->CheckBinaryBody();
     if (ok && this->Summary->NumberOfShortFaces > 0)
@@ -879,6 +619,33 @@ private:
       " bytes)");
   }
 
+  /// Header only: a binary body must hold at least the header's rows at their smallest (each
+  /// list empty), so a header that claims more rows than the file can hold fails at once.
+  bool CheckBodyAtLeastFixedRows()
+  {
+    if (this->Summary->Format == PLYFormat::ASCII)
+    {
+      return true;
+    }
+    int64_t least = 0;
+    for (const PLYElement& e : this->Summary->Elements)
+    {
+      int64_t row = 0;
+      for (const PLYProperty& p : e.Properties)
+      {
+        row += Info(p.IsList ? p.CountType : p.Type).Size;
+      }
+      least += e.Count * row;
+    }
+    if (least > this->In.Left())
+    {
+      return this->Fail("the header describes rows of at least " + std::to_string(least) +
+        " bytes, but the file has " + std::to_string(this->In.Left()) +
+        " bytes after its header: it is truncated or its counts are wrong");
+    }
+    return true;
+  }
+
   bool CheckBinaryBody()
   {
     const bool little = this->Summary->Format == PLYFormat::BinaryLittleEndian;
@@ -1206,8 +973,10 @@ private:
 } // namespace
 
 //------------------------------------------------------------------------------
-bool CheckPLYFile(
-  const std::string& path, std::string* why, PLYSummary* summary, const PLYReaderLimits& limits)
+namespace
+{
+bool RunChecker(const std::string& path, std::string* why, PLYSummary* summary,
+  const PLYReaderLimits& limits, bool headerOnly)
 {
   std::string message;
   PLYSummary local;
@@ -1217,7 +986,7 @@ bool CheckPLYFile(
   try
   {
     Checker checker(&message, &s, limits);
-    ok = checker.Run(path);
+    ok = checker.Run(path, headerOnly);
   }
   catch (const std::bad_alloc&)
   {
@@ -1234,6 +1003,21 @@ bool CheckPLYFile(
     *why = ok ? std::string() : message;
   }
   return ok;
+}
+
+} // namespace
+
+//------------------------------------------------------------------------------
+bool CheckPLYFile(
+  const std::string& path, std::string* why, PLYSummary* summary, const PLYReaderLimits& limits)
+{
+  return RunChecker(path, why, summary, limits, false);
+}
+
+//------------------------------------------------------------------------------
+bool ReadPLYHeader(const std::string& path, std::string* why, PLYSummary* summary)
+{
+  return RunChecker(path, why, summary, PLYReaderLimits(), true);
 }
 
 //------------------------------------------------------------------------------

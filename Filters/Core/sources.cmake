@@ -12,6 +12,7 @@ set(plod_core_sources
   plodOctreeSchema.cxx
   plodPatches.cxx
   plodPLYCheck.cxx
+  plodPLYRead.cxx
   plodSelector.cxx)
 set(plod_core_headers
   plodBudgetController.h
@@ -27,4 +28,6 @@ set(plod_core_headers
   plodParallel.h
   plodPatches.h
   plodPLYCheck.h
+  plodPLYIO.h
+  plodPLYRead.h
   plodSelector.h)

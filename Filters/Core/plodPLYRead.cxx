@@ -1,0 +1,531 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Streaming reader of PLY triangle meshes into compact arrays. See plodPLYRead.h.
+#include "plodPLYRead.h"
+#include "plodPLYIO.h"
+
+#include <algorithm>
+#include <new>
+
+namespace plod
+{
+namespace
+{
+using namespace plyio;
+
+/// Longest ASCII token kept (a number needs far fewer characters).
+constexpr size_t MaxWord = 128;
+
+/// Rows between two progress reports.
+constexpr int64_t ProgressRows = int64_t(1) << 20;
+
+bool IsIndexList(const PLYProperty& p)
+{
+  return p.IsList && (p.Name == "vertex_indices" || p.Name == "vertex_index");
+}
+
+int FindProperty(const PLYElement& e, const char* name)
+{
+  for (size_t i = 0; i < e.Properties.size(); ++i)
+  {
+    if (e.Properties[i].Name == name && !e.Properties[i].IsList)
+    {
+      return static_cast<int>(i);
+    }
+  }
+  return -1;
+}
+
+/// Reads the rows of the body in file order and keeps the vertex and face data.
+class MeshReader
+{
+public:
+  MeshReader(const PLYSummary& header, PLYMesh* mesh, std::string* why, const PLYProgress& progress)
+    : Header(header)
+    , Mesh(mesh)
+    , Why(why)
+    , Progress(progress)
+    , Ascii(header.Format == PLYFormat::ASCII)
+    , Swap((header.Format == PLYFormat::BinaryLittleEndian) != HostIsLittleEndian())
+  {
+  }
+
+  bool Run(const std::string& path)
+  {
+    if (!this->In.Open(path, this->Why))
+    {
+      return false;
+    }
+    if (this->In.Size() != this->Header.FileBytes)
+    {
+      return this->Fail("the file changed size after its header was read");
+    }
+    if (!this->In.Skip(this->Header.HeaderBytes))
+    {
+      return this->Fail("cannot read the file's body");
+    }
+    for (const PLYElement& e : this->Header.Elements)
+    {
+      const bool ok = e.Name == "vertex" ? this->ReadVertices(e)
+        : e.Name == "face"               ? this->ReadFaces(e)
+                                         : this->SkipRows(e);
+      if (!ok)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+private:
+  bool Fail(const std::string& message)
+  {
+    *this->Why = message;
+    return false;
+  }
+
+  std::string Where(const PLYElement& e, int64_t row) const
+  {
+    return "element '" + e.Name + "' row " + std::to_string(row) + " (byte offset " +
+      std::to_string(this->In.Offset()) + ")";
+  }
+
+  bool Report()
+  {
+    if (this->Progress &&
+      !this->Progress(double(this->In.Offset()) / double(std::max<int64_t>(1, this->In.Size()))))
+    {
+      return this->Fail("aborted");
+    }
+    return true;
+  }
+
+  /// The next ASCII token of the current line; false at the end of the line or of the file.
+  bool Token()
+  {
+    int c = this->In.Peek();
+    while (c >= 0 && IsBlank(c))
+    {
+      this->In.Get();
+      c = this->In.Peek();
+    }
+    this->Word.clear();
+    while (c >= 0 && c != '\n' && !IsBlank(c))
+    {
+      const int k = this->In.Get();
+      if (this->Word.size() < MaxWord) // a longer word is no number: kept cut, it fails to parse
+      {
+        this->Word.push_back(static_cast<char>(k));
+      }
+      c = this->In.Peek();
+    }
+    return !this->Word.empty();
+  }
+
+  /// The end of an ASCII row: only blanks, then a newline or the end of the file.
+  bool EndRow(const PLYElement& e, int64_t row)
+  {
+    if (!this->Ascii)
+    {
+      return true;
+    }
+    if (this->Token())
+    {
+      return this->Fail(Where(e, row) + ": more values than its properties");
+    }
+    this->In.Get(); // the newline, or nothing at the end of the file
+    return true;
+  }
+
+  /// One value of type `t` of property `p`; false (with the reason set) when there is none.
+  bool Value(const PLYElement& e, int64_t row, const PLYProperty& p, PLYType t, double* value)
+  {
+    if (this->Ascii)
+    {
+      if (!this->Token())
+      {
+        return this->Fail(Where(e, row) + ": property '" + p.Name + "' has no value");
+      }
+      const char* b = this->Word.data();
+      const char* end = b + this->Word.size();
+      if (Info(t).Integer)
+      {
+        int64_t v = 0;
+        if (!ParseInteger(b, end, &v) || v < Info(t).Min || v > Info(t).Max)
+        {
+          return this->Fail(Where(e, row) + ": property '" + p.Name + "' value '" + this->Word +
+            "' is not a " + PLYTypeName(t));
+        }
+        *value = static_cast<double>(v);
+        return true;
+      }
+      if (!ParseReal(b, end, value))
+      {
+        return this->Fail(
+          Where(e, row) + ": property '" + p.Name + "' value '" + this->Word + "' is not a number");
+      }
+      return true;
+    }
+    unsigned char bytes[8];
+    if (!this->In.Read(bytes, Info(t).Size))
+    {
+      return this->Fail("the file ends inside " + Where(e, row) + ", property '" + p.Name + "'");
+    }
+    *value = Decode(bytes, t, this->Swap);
+    return true;
+  }
+
+  /// A list's count, checked not negative.
+  bool Count(const PLYElement& e, int64_t row, const PLYProperty& p, int64_t* count)
+  {
+    double v = 0;
+    if (!this->Value(e, row, p, p.CountType, &v))
+    {
+      return false;
+    }
+    if (v < 0)
+    {
+      return this->Fail(Where(e, row) + ": list '" + p.Name + "' has a negative count");
+    }
+    *count = static_cast<int64_t>(v);
+    return true;
+  }
+
+  /// Skips one property of a row (a scalar, or a list with its items).
+  bool SkipProperty(const PLYElement& e, int64_t row, const PLYProperty& p)
+  {
+    double v = 0;
+    if (!p.IsList)
+    {
+      return this->Value(e, row, p, p.Type, &v);
+    }
+    int64_t n = 0;
+    if (!this->Count(e, row, p, &n))
+    {
+      return false;
+    }
+    if (!this->Ascii)
+    {
+      const int64_t bytes = n * Info(p.Type).Size;
+      if (bytes > this->In.Left() || !this->In.Skip(bytes))
+      {
+        return this->Fail("the file ends inside " + Where(e, row) + ", list '" + p.Name + "'");
+      }
+      return true;
+    }
+    for (int64_t i = 0; i < n; ++i)
+    {
+      if (!this->Value(e, row, p, p.Type, &v))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  bool SkipRows(const PLYElement& e)
+  {
+    bool fixed = !this->Ascii;
+    int64_t rowSize = 0;
+    for (const PLYProperty& p : e.Properties)
+    {
+      fixed = fixed && !p.IsList;
+      rowSize += Info(p.Type).Size;
+    }
+    if (fixed)
+    {
+      if (e.Count * rowSize > this->In.Left() || !this->In.Skip(e.Count * rowSize))
+      {
+        return this->Fail("the file ends inside element '" + e.Name + "'");
+      }
+      return true;
+    }
+    for (int64_t row = 0; row < e.Count; ++row)
+    {
+      for (const PLYProperty& p : e.Properties)
+      {
+        if (!this->SkipProperty(e, row, p))
+        {
+          return false;
+        }
+      }
+      if (!this->EndRow(e, row))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  bool ReadVertices(const PLYElement& e)
+  {
+    // slot of each property: 0-2 coordinates, 3-5 normal components, -1 skipped
+    const char* names[6] = { "x", "y", "z", "nx", "ny", "nz" };
+    std::vector<int> slot(e.Properties.size(), -1);
+    bool normals = true;
+    for (int k = 0; k < 6; ++k)
+    {
+      const int i = FindProperty(e, names[k]);
+      if (i >= 0)
+      {
+        slot[i] = k;
+      }
+      else if (k < 3)
+      {
+        return this->Fail(std::string("element 'vertex' has no scalar property '") + names[k] +
+          "'");
+      }
+      else
+      {
+        normals = false;
+      }
+    }
+    if (!normals)
+    {
+      for (int& s : slot)
+      {
+        s = s >= 3 ? -1 : s;
+      }
+    }
+    PLYMesh& m = *this->Mesh;
+    const bool dbl = PLYHasDoubleCoordinates(this->Header);
+    m.NumberOfPoints = e.Count;
+    if (dbl)
+    {
+      m.PointsDouble.resize(3 * e.Count);
+    }
+    else
+    {
+      m.PointsFloat.resize(3 * e.Count);
+    }
+    if (normals)
+    {
+      m.Normals.resize(3 * e.Count);
+    }
+    double v = 0;
+    for (int64_t row = 0; row < e.Count; ++row)
+    {
+      if (row % ProgressRows == 0 && !this->Report())
+      {
+        return false;
+      }
+      for (size_t i = 0; i < e.Properties.size(); ++i)
+      {
+        const PLYProperty& p = e.Properties[i];
+        const int k = slot[i];
+        if (k < 0)
+        {
+          if (!this->SkipProperty(e, row, p))
+          {
+            return false;
+          }
+          continue;
+        }
+        if (!this->Value(e, row, p, p.Type, &v))
+        {
+          return false;
+        }
+        if (k >= 3)
+        {
+          m.Normals[3 * row + k - 3] = static_cast<float>(v);
+        }
+        else if (dbl)
+        {
+          m.PointsDouble[3 * row + k] = v;
+        }
+        else
+        {
+          m.PointsFloat[3 * row + k] = static_cast<float>(v);
+        }
+      }
+      if (!this->EndRow(e, row))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  bool ReadFaces(const PLYElement& e)
+  {
+    PLYMesh& m = *this->Mesh;
+    m.NumberOfFaces = e.Count;
+    m.Triangles.reserve(3 * static_cast<size_t>(e.Count));
+    const int64_t points = this->Header.NumberOfVertices; // `vertex` may come after `face`
+    int listIndex = -1;
+    for (size_t i = 0; i < e.Properties.size() && listIndex < 0; ++i)
+    {
+      listIndex = IsIndexList(e.Properties[i]) ? static_cast<int>(i) : -1;
+    }
+    if (listIndex < 0 && e.Count > 0)
+    {
+      return this->Fail("element 'face' has no list 'vertex_indices' or 'vertex_index'");
+    }
+    std::vector<int32_t> corners;
+    double v = 0;
+    for (int64_t row = 0; row < e.Count; ++row)
+    {
+      if (row % ProgressRows == 0 && !this->Report())
+      {
+        return false;
+      }
+      for (size_t i = 0; i < e.Properties.size(); ++i)
+      {
+        const PLYProperty& p = e.Properties[i];
+        if (static_cast<int>(i) != listIndex)
+        {
+          if (!this->SkipProperty(e, row, p))
+          {
+            return false;
+          }
+          continue;
+        }
+        int64_t n = 0;
+        if (!this->Count(e, row, p, &n))
+        {
+          return false;
+        }
+        if (!this->Ascii && n * Info(p.Type).Size > this->In.Left())
+        {
+          return this->Fail("the file ends inside " + Where(e, row) + ": its list of " +
+            std::to_string(n) + " indices");
+        }
+        corners.clear();
+        for (int64_t c = 0; c < n; ++c)
+        {
+          if (!this->Value(e, row, p, p.Type, &v))
+          {
+            return false;
+          }
+          if (!(v >= 0 && v < double(points)))
+          {
+            return this->Fail(Where(e, row) + ": vertex index " +
+              std::to_string(static_cast<int64_t>(v)) + " is outside [0, " +
+              std::to_string(points) + ")");
+          }
+          corners.push_back(static_cast<int32_t>(v));
+        }
+        this->AddFan(corners);
+      }
+      if (!this->EndRow(e, row))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  /// A face as a fan of triangles about its first corner.
+  void AddFan(const std::vector<int32_t>& corners)
+  {
+    PLYMesh& m = *this->Mesh;
+    if (corners.size() < 3)
+    {
+      ++m.NumberOfShortFaces;
+      return;
+    }
+    if (corners.size() > 3)
+    {
+      ++m.NumberOfSplitFaces;
+    }
+    for (size_t k = 1; k + 1 < corners.size(); ++k)
+    {
+      m.Triangles.push_back(corners[0]);
+      m.Triangles.push_back(corners[k]);
+      m.Triangles.push_back(corners[k + 1]);
+    }
+  }
+
+  const PLYSummary& Header;
+  PLYMesh* Mesh;
+  std::string* Why;
+  const PLYProgress& Progress;
+  const bool Ascii;
+  const bool Swap;
+  Input In;
+  std::string Word;
+};
+
+} // namespace
+
+//------------------------------------------------------------------------------
+bool PLYHasDoubleCoordinates(const PLYSummary& header)
+{
+  const PLYElement* v = FindPLYElement(header, "vertex");
+  if (!v)
+  {
+    return false;
+  }
+  for (const char* name : { "x", "y", "z" })
+  {
+    const int i = FindProperty(*v, name);
+    if (i >= 0 && v->Properties[i].Type == PLYType::Float64)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+//------------------------------------------------------------------------------
+bool PLYHasNormals(const PLYSummary& header)
+{
+  const PLYElement* v = FindPLYElement(header, "vertex");
+  return v && FindProperty(*v, "nx") >= 0 && FindProperty(*v, "ny") >= 0 &&
+    FindProperty(*v, "nz") >= 0;
+}
+
+//------------------------------------------------------------------------------
+double EstimatePLYMeshBytes(const PLYSummary& header)
+{
+  const double points = double(header.NumberOfVertices);
+  const double coordinate = PLYHasDoubleCoordinates(header) ? 8.0 : 4.0;
+  return points * 3.0 * coordinate + (PLYHasNormals(header) ? points * 12.0 : 0.0) +
+    double(header.NumberOfFaces) * 12.0;
+}
+
+//------------------------------------------------------------------------------
+bool ReadPLYMesh(
+  const std::string& path, PLYMesh* mesh, std::string* why, const PLYProgress& progress)
+{
+  std::string message;
+  PLYMesh local;
+  PLYMesh& m = mesh ? *mesh : local;
+  m = PLYMesh();
+  bool ok = false;
+  try
+  {
+    PLYSummary header;
+    ok = ReadPLYHeader(path, &message, &header);
+    if (ok && !FindPLYElement(header, "vertex"))
+    {
+      message = "the file has no element 'vertex'";
+      ok = false;
+    }
+    if (ok)
+    {
+      MeshReader reader(header, &m, &message, progress);
+      ok = reader.Run(path);
+    }
+  }
+  catch (const std::bad_alloc&)
+  {
+    message = "out of memory while reading the mesh";
+    ok = false;
+  }
+  catch (...)
+  {
+    message = "unexpected error while reading the mesh";
+    ok = false;
+  }
+  if (!ok)
+  {
+    m = PLYMesh();
+  }
+  if (why)
+  {
+    *why = ok ? std::string() : message;
+  }
+  return ok;
+}
+
+} // namespace plod
