@@ -3,6 +3,7 @@
 
 #include "plodBuildUtil.h"
 #include "plodOctreeBuilder.h"
+#include "plodPLYRead.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -27,11 +28,18 @@
 
 #include <vtksys/SystemInformation.hxx>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
 vtkStandardNewMacro(vtkMultiscaleOctreeBuilder);
+
+namespace
+{
+/// Share of the progress of a build from a file that its reading takes.
+constexpr double ReadShare = 0.25;
+}
 
 namespace
 {
@@ -76,7 +84,8 @@ void CollectTriangles(vtkPolyData* pd, std::vector<int64_t>& tris, std::vector<v
 
 //------------------------------------------------------------------------------
 vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
-  : FinestLevel(-1)
+  : FileName(nullptr)
+  , FinestLevel(-1)
   , EstimatedMemory(0.0)
   , VertexRule(VERTEX_QEF)
   , DiffuseArrayName(nullptr)
@@ -96,6 +105,7 @@ vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
   , NumberOfUnsafeNodes(0)
   , NumberOfGhostPoints(0)
   , BuildTime(0.0)
+  , ReadTime(0.0)
 {
   this->Viewpoint[0] = this->Viewpoint[1] = this->Viewpoint[2] = 0.0;
   this->RootCubeOrigin[0] = this->RootCubeOrigin[1] = this->RootCubeOrigin[2] = 0.0;
@@ -104,6 +114,7 @@ vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
 //------------------------------------------------------------------------------
 vtkMultiscaleOctreeBuilder::~vtkMultiscaleOctreeBuilder()
 {
+  this->SetFileName(nullptr);
   this->SetDiffuseArrayName(nullptr);
   this->SetSpecularArrayName(nullptr);
   this->SetViewpointArrayName(nullptr);
@@ -174,6 +185,7 @@ int vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(
 int vtkMultiscaleOctreeBuilder::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1); // FileName instead
   return 1;
 }
 
@@ -275,10 +287,42 @@ void vtkMultiscaleOctreeBuilder::ReportIgnoredCells(vtkPolyData* input)
 }
 
 //------------------------------------------------------------------------------
+bool vtkMultiscaleOctreeBuilder::CheckParameters()
+{
+  if (this->FinestLevel < -1 || this->FinestLevel > plod::MaxFinestLevel)
+  {
+    vtkErrorMacro("FinestLevel " << this->FinestLevel << " is outside [-1, " << plod::MaxFinestLevel
+                                 << "] (-1 chooses it from the input).");
+    return false;
+  }
+  if (!(this->MemoryLimit >= 0) || !std::isfinite(this->MemoryLimit))
+  {
+    vtkErrorMacro(
+      "MemoryLimit must be a non-negative number of MiB (0: automatic), not " << this->MemoryLimit);
+    return false;
+  }
+  if (!std::isfinite(this->UniformDiffuse) || !std::isfinite(this->UniformSpecular))
+  {
+    vtkErrorMacro("UniformDiffuse and UniformSpecular must be finite.");
+    return false;
+  }
+  std::string cubeProblem;
+  if (this->UseGivenRootCube &&
+    !plod::build::ValidateRootCube(this->RootCubeOrigin, this->RootCubeEdge, &cubeProblem))
+  {
+    vtkErrorMacro("UseGivenRootCube: " << cubeProblem << ".");
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
 int vtkMultiscaleOctreeBuilder::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPointSet* input = vtkPointSet::GetData(inputVector[0]);
+  vtkPointSet* input = inputVector[0]->GetNumberOfInformationObjects() > 0
+    ? vtkPointSet::GetData(inputVector[0])
+    : nullptr;
   vtkMultiscaleOctree* output = vtkMultiscaleOctree::GetData(outputVector);
   if (!output)
   {
@@ -294,32 +338,22 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   this->NumberOfGhostPoints = 0;
   this->FinestLevelReason.clear();
   this->BuildTime = 0.0;
+  this->ReadTime = 0.0;
   this->EstimatedMemory = 0.0;
-
-  // parameters
-  if (this->FinestLevel < -1 || this->FinestLevel > plod::MaxFinestLevel)
+  if (!this->CheckParameters())
   {
-    vtkErrorMacro("FinestLevel " << this->FinestLevel << " is outside [-1, " << plod::MaxFinestLevel
-                                 << "] (-1 chooses it from the input).");
     return 0;
   }
-  if (!(this->MemoryLimit >= 0) || !std::isfinite(this->MemoryLimit))
+  if (this->FileName && *this->FileName)
   {
-    vtkErrorMacro(
-      "MemoryLimit must be a non-negative number of MiB (0: automatic), not " << this->MemoryLimit);
-    return 0;
-  }
-  if (!std::isfinite(this->UniformDiffuse) || !std::isfinite(this->UniformSpecular))
-  {
-    vtkErrorMacro("UniformDiffuse and UniformSpecular must be finite.");
-    return 0;
-  }
-  std::string cubeProblem;
-  if (this->UseGivenRootCube &&
-    !plod::build::ValidateRootCube(this->RootCubeOrigin, this->RootCubeEdge, &cubeProblem))
-  {
-    vtkErrorMacro("UseGivenRootCube: " << cubeProblem << ".");
-    return 0;
+    if (input)
+    {
+      vtkErrorMacro("Both an input and a FileName ('"
+        << this->FileName << "') are set: remove the input connection or set FileName to "
+        << "nullptr. Empty octree.");
+      return 1;
+    }
+    return this->BuildFromFile(output);
   }
   if (!input || input->GetNumberOfPoints() == 0)
   {
@@ -545,11 +579,114 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   }
   in.UniformDiffuse = static_cast<float>(this->UniformDiffuse);
   in.UniformSpecular = static_cast<float>(this->UniformSpecular);
+  timer->StopTimer();
+  this->ReadTime = timer->GetElapsedTime();
+  auto progress = [this](double f) {
+    this->UpdateProgress(f);
+    return !this->GetAbortExecute();
+  };
+  return this->RunBuild(
+    in, hasMaterial, this->GetEffectiveMemoryLimit() * 1024.0 * 1024.0, progress, output);
+}
 
+//------------------------------------------------------------------------------
+int vtkMultiscaleOctreeBuilder::BuildFromFile(vtkMultiscaleOctree* output)
+{
+  constexpr double MiB = 1024.0 * 1024.0;
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+  const std::string file = this->FileName;
+  std::string why;
+  plod::PLYSummary header;
+  if (!plod::ReadPLYHeader(file, &why, &header))
+  {
+    vtkErrorMacro("Cannot build from '" << file << "' (FileName takes a PLY file): " << why
+                                        << ". Empty octree.");
+    return 1;
+  }
+  // what the build needs at the least (its coarsest levels), the mesh's arrays included
+  const double limit = this->GetEffectiveMemoryLimit() * MiB;
+  const double meshBytes = plod::EstimatePLYMeshBytes(header);
+  const bool cloud = header.NumberOfFaces == 0;
+  const double least =
+    meshBytes + plod::EstimateBuildMemory(header.NumberOfVertices, header.NumberOfFaces, 9, cloud);
+  if (least > limit)
+  {
+    const double perItem =
+      least / double(std::max<int64_t>(1, cloud ? header.NumberOfVertices : header.NumberOfFaces));
+    vtkErrorMacro(<< "'" << file << "' holds " << header.NumberOfVertices << " points and "
+                  << header.NumberOfFaces << " faces: building it in memory needs at least "
+                  << std::llround(least / MiB) << " MiB (the mesh " << std::llround(meshBytes / MiB)
+                  << " MiB, the build the rest), "
+                  << "more than the memory limit of " << std::llround(limit / MiB)
+                  << " MiB. At about " << static_cast<long long>(perItem) << " bytes per "
+                  << (cloud ? "point" : "face") << ", at most "
+                  << static_cast<long long>(limit / perItem) << (cloud ? " points" : " faces")
+                  << " fit; raise MemoryLimit on a machine with more memory. Nothing was read. "
+                  << "Empty octree.");
+    return 1;
+  }
+  plod::PLYMesh mesh;
+  auto readProgress = [this](double f) {
+    this->UpdateProgress(ReadShare * f);
+    return !this->GetAbortExecute();
+  };
+  if (!plod::ReadPLYMesh(file, &mesh, &why, readProgress))
+  {
+    if (this->GetAbortExecute())
+    {
+      vtkWarningMacro("Build aborted while reading '" << file << "': empty octree.");
+      return 1;
+    }
+    vtkErrorMacro("Cannot read '" << file << "': " << why << ". Empty octree.");
+    return 1;
+  }
+  if (mesh.NumberOfShortFaces > 0)
+  {
+    vtkWarningMacro(<< "'" << file << "': " << mesh.NumberOfShortFaces << " of "
+                    << mesh.NumberOfFaces
+                    << " faces have fewer than 3 vertex indices and are not polygons; dropped.");
+  }
+  plod::BuildInput in;
+  in.NumberOfPoints = mesh.NumberOfPoints;
+  in.Points = mesh.PointsDouble.empty() ? nullptr : mesh.PointsDouble.data();
+  in.PointsFloat = mesh.PointsFloat.empty() ? nullptr : mesh.PointsFloat.data();
+  in.NumberOfTriangles = mesh.NumberOfTriangles();
+  in.Triangles32 = mesh.Triangles.empty() ? nullptr : mesh.Triangles.data();
+  in.PointNormals = mesh.Normals.empty() ? nullptr : mesh.Normals.data();
+  in.UniformDiffuse = static_cast<float>(this->UniformDiffuse);
+  in.UniformSpecular = static_cast<float>(this->UniformSpecular);
+  in.HasViewpoint = this->UseViewpoint;
+  std::copy(this->Viewpoint, this->Viewpoint + 3, in.Viewpoint);
+  this->NumberOfInputTriangles = in.NumberOfTriangles;
+  timer->StopTimer();
+  this->ReadTime = timer->GetElapsedTime();
+  if (in.NumberOfPoints == 0)
+  {
+    vtkDebugMacro("Empty file: empty octree.");
+    return 1;
+  }
+  const double held = double(mesh.PointsFloat.capacity()) * sizeof(float) +
+    double(mesh.PointsDouble.capacity()) * sizeof(double) +
+    double(mesh.Normals.capacity()) * sizeof(float) +
+    double(mesh.Triangles.capacity()) * sizeof(int32_t);
+  auto buildProgress = [this](double f) {
+    this->UpdateProgress(ReadShare + (1.0 - ReadShare) * f);
+    return !this->GetAbortExecute();
+  };
+  return this->RunBuild(in, false, std::max(0.0, limit - held), buildProgress, output);
+}
+
+//------------------------------------------------------------------------------
+int vtkMultiscaleOctreeBuilder::RunBuild(const plod::BuildInput& in, bool hasMaterial,
+  double memoryLimit, const std::function<bool(double)>& progress, vtkMultiscaleOctree* output)
+{
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
   plod::BuildParameters params;
   params.FinestLevel = this->FinestLevel;
   params.Rule = this->VertexRule == VERTEX_QEF ? plod::VertexRule::QEF : plod::VertexRule::Mean;
-  params.MemoryLimit = this->GetEffectiveMemoryLimit() * 1024.0 * 1024.0;
+  params.MemoryLimit = memoryLimit;
   params.HasRootCube = this->UseGivenRootCube;
   std::copy(this->RootCubeOrigin, this->RootCubeOrigin + 3, params.RootOrigin);
   params.RootEdge = this->RootCubeEdge;
@@ -562,10 +699,6 @@ int vtkMultiscaleOctreeBuilder::RequestData(
         [&body](vtkIdType b, vtkIdType e) { body(b, e); });
     };
   }
-  auto progress = [this](double f) {
-    this->UpdateProgress(f);
-    return !this->GetAbortExecute();
-  };
   plod::Allocator allocate;
   allocate.Nodes = [output](int64_t nodes, int64_t points, int64_t triangles) {
     output->Allocate(static_cast<vtkIdType>(nodes), static_cast<vtkIdType>(points),
@@ -629,6 +762,7 @@ int vtkMultiscaleOctreeBuilder::RequestData(
 void vtkMultiscaleOctreeBuilder::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "FinestLevel: " << this->FinestLevel << "\n";
   os << indent << "VertexRule: " << (this->VertexRule == VERTEX_QEF ? "QEF" : "Mean") << "\n";
   os << indent

@@ -94,10 +94,15 @@
 #include "vtkMultiscaleOctreeAlgorithm.h"
 #include "vtkSmartPointer.h" // for TakeSurfaceCells
 
-#include <string> // for the level reason
+#include <functional> // for RunBuild's progress
+#include <string>     // for the level reason
 
 class vtkPointSet;
 class vtkPolyData;
+namespace plod
+{
+struct BuildInput;
+}
 
 class PERCEPTUALLODFILTERS_EXPORT vtkMultiscaleOctreeBuilder : public vtkMultiscaleOctreeAlgorithm
 {
@@ -143,6 +148,25 @@ public:
    */
   static int ChooseFinestLevelFromCounts(
     const long long cellsPerLevel[22], long long numberOfPoints, bool cloud);
+
+  ///@{
+  /**
+   * A PLY file to build from instead of the input (default: none). The builder then reads the
+   * file itself, straight into the compact arrays the build takes (plodPLYRead.h: float or
+   * double points as the file has them, 32-bit indices, the normals nx ny nz when present;
+   * other vertex properties and elements are skipped, polygons split into fans), so no
+   * vtkPolyData of the model is ever made: about half the memory of vtkPLYReader plus a build.
+   * Before any row is read, the header's counts give the least memory the build needs (the
+   * mesh's arrays and the build at its coarsest levels); a file that needs more than the
+   * memory limit is refused with an error that says how many faces would fit, and nothing is
+   * read. Here the limit counts the mesh's arrays too. A file that is not PLY, or whose body
+   * does not match its header, is an error naming the problem. Setting both an input connection
+   * and a FileName is an error. Material arrays and viewpoint arrays do not apply; the uniform
+   * reflectances, UseViewpoint and Viewpoint do.
+   */
+  vtkSetFilePathMacro(FileName);
+  vtkGetFilePathMacro(FileName);
+  ///@}
 
   ///@{
   /**
@@ -225,13 +249,12 @@ public:
 
   ///@{
   /**
-   * Memory the build may use for itself (the input not counted), in MiB. 0 (default):
-   * automatic, three quarters of the machine's physical memory (GetEffectiveMemoryLimit();
-   * 4096 MiB where the system cannot say). The build's peak is about 110 to 155 bytes per
-   * input triangle (docs/benchmarks.md, scale), so 18 GiB, the default on a 24 GiB machine,
-   * holds about 120M triangles. A coarser finest level saves little at that size: the octree
-   * keeps the input's surface (about 32 bytes per triangle) at any level. A larger model needs
-   * a machine with more memory.
+   * Memory the build may use for itself (the input not counted, except with FileName), in MiB.
+   * 0 (default): automatic, three quarters of the machine's physical memory
+   * (GetEffectiveMemoryLimit(); 4096 MiB where the system cannot say). An automatic finest
+   * level is lowered to fit it; a coarser level saves little, since the octree keeps the
+   * input's surface at any level. What the build needs per triangle is measured in
+   * docs/benchmarks.md.
    */
   vtkSetMacro(MemoryLimit, double);
   vtkGetMacro(MemoryLimit, double);
@@ -254,8 +277,11 @@ public:
   vtkGetMacro(NumberOfDegenerateTriangles, vtkIdType);
   vtkGetMacro(NumberOfUnsafeNodes, vtkIdType);
   const char* GetFinestLevelReason() { return this->FinestLevelReason.c_str(); }
-  /// Wall-clock seconds of the last build.
+  /// Wall-clock seconds of the last build (the octree's construction).
   vtkGetMacro(BuildTime, double);
+  /// Wall-clock seconds the last execution took to take its input before the build: reading
+  /// FileName, or gathering the input's arrays.
+  vtkGetMacro(ReadTime, double);
   /// Surface points flagged as ghosts (the input's vtkGhostType) in the last build.
   vtkGetMacro(NumberOfGhostPoints, vtkIdType);
   /// The estimate, in bytes, of the last build's own peak memory at the level it built (what
@@ -275,7 +301,16 @@ protected:
   vtkSmartPointer<vtkPolyData> TakeSurfaceCells(vtkPointSet* input);
   /// Warns when a mesh's vertex and line cells are left out of its surface.
   void ReportIgnoredCells(vtkPolyData* input);
+  /// Reports invalid parameters as errors; false when there is one.
+  bool CheckParameters();
+  /// The build from FileName: header, memory check, streaming read, build.
+  int BuildFromFile(vtkMultiscaleOctree* output);
+  /// Builds the octree of `in` into `output` within `memoryLimit` bytes and reports what the
+  /// build found.
+  int RunBuild(const plod::BuildInput& in, bool hasMaterial, double memoryLimit,
+    const std::function<bool(double)>& progress, vtkMultiscaleOctree* output);
 
+  char* FileName;
   int FinestLevel;
   double EstimatedMemory;
   int VertexRule;
@@ -300,6 +335,7 @@ protected:
   vtkIdType NumberOfGhostPoints;
   std::string FinestLevelReason;
   double BuildTime;
+  double ReadTime;
 
 private:
   vtkMultiscaleOctreeBuilder(const vtkMultiscaleOctreeBuilder&) = delete;

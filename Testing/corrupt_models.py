@@ -1,7 +1,10 @@
 """End-to-end check that a program given a corrupt or missing model fails cleanly: it exits with
 a non-zero status (not killed by a signal) and says on stderr which file is wrong and why.
 
-    corrupt_models.py <program> [arguments...]
+    corrupt_models.py [--own-ply-reader] <program> [arguments...]
+
+--own-ply-reader: the program reads PLY without VTK's reader, which needs 'vertex' first: the
+model whose 'face' comes first must then be read (exit 0).
 
 The models are written to a temporary folder; each one's path is appended to the arguments in
 turn. Exit status 0 when every model is handled so; the lines printed say what was seen.
@@ -108,7 +111,10 @@ def main():
     if len(sys.argv) < 2:
         print(__doc__)
         return 2
-    command = sys.argv[1:]
+    # a program that reads PLY with its own reader (plod::ReadPLYMesh) takes the elements in any
+    # order, as the format allows; VTK's reader needs 'vertex' first
+    own_reader = '--own-ply-reader' in sys.argv
+    command = [a for a in sys.argv[1:] if a != '--own-ply-reader']
     failures = 0
     with tempfile.TemporaryDirectory(prefix='plod_corrupt_') as folder:
         for name, content, expect in models():
@@ -128,6 +134,13 @@ def main():
                 failures += 1
                 continue
             problems = []
+            if own_reader and name == 'face_before_vertex.ply':
+                if run.returncode != 0:
+                    failures += 1
+                    print(f'FAIL {name}: exit {run.returncode}, but its own reader takes any order')
+                else:
+                    print(f'ok   {name}: read (elements in any order)')
+                continue
             if run.returncode < 0:
                 problems.append(f'killed by signal {-run.returncode}')
             elif run.returncode == 0:

@@ -4,13 +4,21 @@
 // uniform cut. Usage:
 //
 //   PerceptualLODMain [model.ply|.stl|.obj|.vtp|.plod] [--level N] [--mean] [--serial]
-//                     [--save octree.plod]
+//                     [--memory SIZE] [--save octree.plod]
 //
 // Without a file it uses a generated detailed model (a displaced sphere of about 500k
 // triangles), so it runs anywhere. --save writes the built octree to a file that this program,
-// the viewer and vtkMultiscaleOctreeReader open without building again.
+// the viewer and vtkMultiscaleOctreeReader open without building again. A PLY file is read by
+// the builder itself (vtkMultiscaleOctreeBuilder::SetFileName: no vtkPolyData of the model),
+// after its header's counts are checked against --memory (a number of MiB, or with a suffix
+// K, M, G or T; default: three quarters of the machine's memory): a model that cannot fit is
+// refused before anything is read. Progress, with the time left, goes to stdout.
+#include "plodOctreeBuilder.h"
+#include "plodPLYRead.h"
 #include "plodTestUtilities.h"
 
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkMultiscaleOctree.h"
@@ -25,14 +33,71 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
+
+namespace
+{
+/// A memory size: a number of MiB, or a number with a suffix K, M, G or T (powers of 1024).
+/// Returns the MiB, or a negative number for text that is not a size.
+double ParseMiB(const std::string& text)
+{
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || !(value > 0) || !std::isfinite(value))
+  {
+    return -1;
+  }
+  const std::string unit = end;
+  const double scale = unit.empty() || unit == "M" || unit == "MiB" ? 1.0
+    : unit == "K" || unit == "KiB"                                  ? 1.0 / 1024.0
+    : unit == "G" || unit == "GiB"                                  ? 1024.0
+    : unit == "T" || unit == "TiB"                                  ? 1024.0 * 1024.0
+                                                                    : -1.0;
+  return scale > 0 ? value * scale : -1;
+}
+
+/// Prints a filter's progress every tenth, with the time spent and the time left at this pace.
+void ShowProgress(vtkAlgorithm* filter, const char* what)
+{
+  struct State
+  {
+    std::string What;
+    std::chrono::steady_clock::time_point Start = std::chrono::steady_clock::now();
+    int Shown = 0;
+  };
+  auto* state = new State{ what };
+  vtkNew<vtkCallbackCommand> command;
+  command->SetClientData(state);
+  command->SetClientDataDeleteCallback([](void* d) { delete static_cast<State*>(d); });
+  command->SetCallback([](vtkObject*, unsigned long, void* d, void* call) {
+    auto* st = static_cast<State*>(d);
+    const double f = *static_cast<double*>(call);
+    const int tenth = static_cast<int>(f * 10.0 + 1e-9);
+    if (tenth <= st->Shown || f <= 0)
+    {
+      return;
+    }
+    st->Shown = tenth;
+    const double spent =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - st->Start).count();
+    std::printf("%s: %3d %%, %.1f s spent, about %.1f s left\n", st->What.c_str(),
+      static_cast<int>(100 * f + 0.5), spent, spent * (1.0 - f) / f);
+    std::fflush(stdout);
+  });
+  filter->AddObserver(vtkCommand::ProgressEvent, command);
+}
+}
 
 int main(int argc, char* argv[])
 {
   std::string file, save;
   int level = -1;
+  double memory = 0; // MiB, 0: automatic
   bool mean = false, serial = false;
   for (int i = 1; i < argc; ++i)
   {
@@ -45,10 +110,20 @@ int main(int argc, char* argv[])
       serial = true;
     else if (a == "--save" && i + 1 < argc)
       save = argv[++i];
+    else if (a == "--memory" && i + 1 < argc)
+    {
+      memory = ParseMiB(argv[++i]);
+      if (memory <= 0)
+      {
+        std::fprintf(
+          stderr, "--memory takes a size such as 4G, 512M or 2048 (MiB), not '%s'\n", argv[i]);
+        return 1;
+      }
+    }
     else if (a == "-h" || a == "--help")
     {
       std::printf("usage: %s [model.ply|.stl|.obj|.vtp|.plod] [--level N] [--mean] [--serial] "
-                  "[--save octree.plod]\n",
+                  "[--memory SIZE] [--save octree.plod]\n",
         argv[0]);
       return 0;
     }
@@ -74,31 +149,74 @@ int main(int argc, char* argv[])
   }
   else
   {
-    vtkSmartPointer<vtkPolyData> model;
-    if (file.empty())
-    {
-      std::printf("model: generated displaced sphere\n");
-      model = plodtest::MakeBlob(11, 500, 0.2);
-    }
-    else
-    {
-      model = plodtest::ReadModel(file);
-      if (!model)
-      {
-        std::fprintf(
-          stderr, "cannot read a model from '%s' (PLY, STL, OBJ, VTP or .plod)\n", file.c_str());
-        return 1;
-      }
-      std::printf("model: %s\n", file.c_str());
-    }
-    std::printf("input: %lld points, %lld polygons\n",
-      static_cast<long long>(model->GetNumberOfPoints()),
-      static_cast<long long>(model->GetNumberOfPolys() + model->GetNumberOfStrips()));
-    builder->SetInputData(model);
     builder->SetFinestLevel(level);
     if (mean)
       builder->SetVertexRuleToMean();
     builder->SetMultiThreaded(!serial);
+    builder->SetMemoryLimit(memory);
+    ShowProgress(builder, "build");
+    const bool ply = file.size() > 4 &&
+      (file.substr(file.size() - 4) == ".ply" || file.substr(file.size() - 4) == ".PLY");
+    if (ply)
+    {
+      // read by the builder itself: its header is checked against the memory limit first
+      std::printf("model: %s (read by the builder, memory limit %.0f MiB)\n", file.c_str(),
+        builder->GetEffectiveMemoryLimit());
+      // checked in full first (one pass through a small buffer): a corrupt body is named to
+      // the row before the build starts; then the header's counts give the estimates
+      plod::PLYSummary header;
+      std::string why;
+      if (!plod::CheckPLYFile(file, &why, &header))
+      {
+        std::fprintf(stderr,
+          "%s: %s\ncannot read a model from '%s' (PLY, STL, OBJ, VTP or .plod)\n", file.c_str(),
+          why.c_str(), file.c_str());
+        return 1;
+      }
+      if (!header.Warning.empty())
+      {
+        std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), header.Warning.c_str());
+      }
+      {
+        const double MiB = 1024.0 * 1024.0;
+        const bool cloud = header.NumberOfFaces == 0;
+        std::printf("header: %lld points, %lld faces; memory at least %.0f MiB (the mesh's "
+                    "arrays %.0f MiB and the build); octree file about %.0f MiB\n",
+          static_cast<long long>(header.NumberOfVertices),
+          static_cast<long long>(header.NumberOfFaces),
+          (plod::EstimatePLYMeshBytes(header) +
+            plod::EstimateBuildMemory(header.NumberOfVertices, header.NumberOfFaces, 9, cloud)) /
+            MiB,
+          plod::EstimatePLYMeshBytes(header) / MiB,
+          plod::EstimateOctreeBytes(header.NumberOfVertices, header.NumberOfFaces) / MiB);
+      }
+      std::fflush(stdout);
+      builder->SetFileName(file.c_str());
+    }
+    else
+    {
+      vtkSmartPointer<vtkPolyData> model;
+      if (file.empty())
+      {
+        std::printf("model: generated displaced sphere\n");
+        model = plodtest::MakeBlob(11, 500, 0.2);
+      }
+      else
+      {
+        model = plodtest::ReadModel(file);
+        if (!model)
+        {
+          std::fprintf(
+            stderr, "cannot read a model from '%s' (PLY, STL, OBJ, VTP or .plod)\n", file.c_str());
+          return 1;
+        }
+        std::printf("model: %s\n", file.c_str());
+      }
+      std::printf("input: %lld points, %lld polygons\n",
+        static_cast<long long>(model->GetNumberOfPoints()),
+        static_cast<long long>(model->GetNumberOfPolys() + model->GetNumberOfStrips()));
+      builder->SetInputData(model);
+    }
     builder->Update();
     octree = builder->GetOutput();
     if (octree->GetNumberOfNodes() == 0)
@@ -107,6 +225,9 @@ int main(int argc, char* argv[])
       return 1;
     }
     std::printf("finest level: %s\n", builder->GetFinestLevelReason());
+    if (ply)
+      std::printf("read: %.1f ms, %lld triangles\n", builder->GetReadTime() * 1e3,
+        static_cast<long long>(builder->GetNumberOfInputTriangles()));
     std::printf("build: %.1f ms (%s), %lld triangles kept, %lld skipped, %lld nodes not "
                 "topologically safe\n",
       builder->GetBuildTime() * 1e3, serial ? "1 thread" : "vtkSMPTools",

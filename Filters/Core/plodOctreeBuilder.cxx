@@ -49,6 +49,15 @@ namespace
 constexpr int64_t LeafPoints = 4;
 }
 
+double EstimateOctreeBytes(int64_t points, int64_t triangles)
+{
+  // leaves of LeafPoints points, and a full octree's 8/7 nodes per leaf
+  const double nodes = double(points) / double(LeafPoints) * 8.0 / 7.0;
+  return double(BytesPer(ArrayGroup::Node) + BytesPer(ArrayGroup::Cluster)) * nodes +
+    double(BytesPer(ArrayGroup::Point)) * double(points) +
+    double(BytesPer(ArrayGroup::Triangle)) * double(triangles);
+}
+
 int ChooseFinestLevel(const int64_t cells[MaxFinestLevel + 1], int64_t points, int64_t triangles,
   bool cloud, double memoryLimit, std::string* reason)
 {

@@ -224,6 +224,11 @@ struct BuildResult
 /// Estimated peak bytes of a build's own memory (outputs and work arrays, not the input).
 double EstimateBuildMemory(int64_t points, int64_t triangles, int64_t nodes, bool cloud);
 
+/// Estimated bytes of the octree of a mesh of distinct points at the automatic level (leaves
+/// of about four points, one cluster per node): the arrays of the schema, which the octree
+/// file stores one for one.
+double EstimateOctreeBytes(int64_t points, int64_t triangles);
+
 /**
  * The default finest level, from the number of occupied cells of each level 0..21
  * (`cellsPerLevel`, non-decreasing) over the input points:

@@ -23,6 +23,7 @@
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
 #include "vtkNew.h"
+#include "vtkPLYWriter.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -37,12 +38,17 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
 #include <sstream>
+#include <unistd.h>
 
 using plodcheck::Angle;
 using plodcheck::Build;
@@ -2003,4 +2009,129 @@ TEST(MultiscaleOctreeBuilder, UnsharedVerticesAreNamed)
           " surface points repeat the position of another point") != std::string::npos;
     EXPECT_EQ(named, mesh == soup.GetPointer()) << (mesh == soup.GetPointer() ? "soup" : "cube");
   }
+}
+
+/// A mesh written to a PLY file by vtkPLYWriter (binary or ASCII), in a temporary folder.
+std::string WritePLYFile(vtkPolyData* mesh, const std::string& name, bool binary)
+{
+  const std::string path = (std::filesystem::temp_directory_path() /
+    ("plod_builder_" + std::to_string(::getpid()) + "_" + name + ".ply"))
+                             .string();
+  vtkNew<vtkPLYWriter> writer;
+  writer->SetInputData(mesh);
+  writer->SetFileName(path.c_str());
+  if (binary)
+    writer->SetFileTypeToBinary();
+  else
+    writer->SetFileTypeToASCII();
+  writer->Write();
+  return path;
+}
+
+// The build from a file name reads the file itself (no vtkPolyData): it gives the octree of the
+// mesh vtkPLYReader reads from the same file, array for array, with and without normals, in
+// binary and ASCII, and for a real scan.
+TEST(MultiscaleOctreeBuilder, BuildFromAFileIsTheBuildOfItsMesh)
+{
+  auto blob = plodtest::MakeBlob(5, 40, 0.2);
+  vtkNew<vtkPolyDataNormals> normals;
+  normals->SetInputData(blob);
+  normals->SplittingOff();
+  normals->Update();
+  std::vector<std::string> files = { WritePLYFile(blob, "plain", true),
+    WritePLYFile(blob, "ascii", false), WritePLYFile(normals->GetOutput(), "normals", true) };
+  const std::string dir = plodtest::DataDir();
+  const bool scan = !dir.empty();
+  if (scan)
+    files.push_back(dir + "/bun_zipper.ply");
+  for (const std::string& file : files)
+  {
+    auto mesh = plodtest::ReadPLY(file);
+    ASSERT_TRUE(mesh) << file;
+    vtkNew<vtkMultiscaleOctreeBuilder> fromMesh;
+    fromMesh->SetInputData(mesh);
+    fromMesh->Update();
+    vtkNew<plodtest::ErrorRecorder> errors;
+    vtkNew<vtkMultiscaleOctreeBuilder> fromFile;
+    fromFile->AddObserver(vtkCommand::ErrorEvent, errors);
+    fromFile->SetFileName(file.c_str());
+    fromFile->Update();
+    EXPECT_TRUE(errors->Errors.empty()) << file;
+    ASSERT_GT(fromFile->GetOutput()->GetNumberOfNodes(), 0) << file;
+    EXPECT_EQ(fromFile->GetNumberOfInputTriangles(), fromMesh->GetNumberOfInputTriangles());
+    EXPECT_GT(fromFile->GetReadTime(), 0.0);
+    ExpectSameOctree(fromMesh->GetOutput(), fromFile->GetOutput(), file);
+    if (file.find("plod_builder_") != std::string::npos)
+      std::remove(file.c_str());
+  }
+  if (!scan)
+    GTEST_SKIP() << "../shared/data (Stanford scans) not found: the scan was left out";
+}
+
+// A file that cannot fit is refused from its header's counts before a row is read, with what
+// would fit; missing files, other formats and an input beside a file name are errors. Each
+// gives an empty octree.
+TEST(MultiscaleOctreeBuilder, BuildFromAFileRefusesWhatCannotFitOrBeRead)
+{
+  auto blob = plodtest::MakeBlob(6, 40, 0.2);
+  const std::string file = WritePLYFile(blob, "limit", true);
+  const long long faces = blob->GetNumberOfPolys();
+  struct Case
+  {
+    std::string Name;
+    std::function<void(vtkMultiscaleOctreeBuilder*)> Set;
+    std::string Expect;
+  };
+  const std::string missing = file + ".missing";
+  const std::string notPLY = std::string(PLOD_SOURCE_DIR) + "/README.md";
+  const std::vector<Case> cases = {
+    { "tiny limit",
+      [&](vtkMultiscaleOctreeBuilder* b) {
+        b->SetFileName(file.c_str());
+        b->SetMemoryLimit(0.05);
+      },
+      "faces: building it in memory needs at least" },
+    { "missing", [&](vtkMultiscaleOctreeBuilder* b) { b->SetFileName(missing.c_str()); },
+      "cannot open" },
+    { "not PLY", [&](vtkMultiscaleOctreeBuilder* b) { b->SetFileName(notPLY.c_str()); },
+      "FileName takes a PLY file" },
+    { "both",
+      [&](vtkMultiscaleOctreeBuilder* b) {
+        b->SetFileName(file.c_str());
+        b->SetInputData(blob);
+      },
+      "Both an input and a FileName" },
+  };
+  for (const Case& c : cases)
+  {
+    vtkNew<plodtest::ErrorRecorder> errors;
+    vtkNew<vtkMultiscaleOctreeBuilder> builder;
+    builder->AddObserver(vtkCommand::ErrorEvent, errors);
+    builder->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+    c.Set(builder);
+    builder->Update();
+    EXPECT_TRUE(errors->HasError(c.Expect))
+      << c.Name << ": " << (errors->Errors.empty() ? "" : errors->Errors[0]);
+    EXPECT_EQ(builder->GetOutput()->GetNumberOfNodes(), 0) << c.Name;
+    EXPECT_EQ(builder->GetNumberOfInputTriangles(), 0) << c.Name << ": nothing read";
+  }
+  // the refusal says how many faces fit: the least need scaled to the limit
+  vtkNew<plodtest::ErrorRecorder> errors;
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->AddObserver(vtkCommand::ErrorEvent, errors);
+  builder->SetFileName(file.c_str());
+  builder->SetMemoryLimit(0.05);
+  builder->Update();
+  ASSERT_EQ(errors->Errors.size(), 1u);
+  const std::string& e = errors->Errors[0];
+  const size_t at = e.find("at most ");
+  ASSERT_NE(at, std::string::npos) << e;
+  const long long fit = std::atoll(e.c_str() + at + 8);
+  EXPECT_GT(fit, 0) << e;
+  EXPECT_LT(fit, faces) << e;
+  // and a limit with room builds it
+  builder->SetMemoryLimit(64);
+  builder->Update();
+  EXPECT_GT(builder->GetOutput()->GetNumberOfNodes(), 0);
+  std::remove(file.c_str());
 }

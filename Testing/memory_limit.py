@@ -1,0 +1,65 @@
+"""End-to-end check of a program's --memory option on a PLY model: a limit the model cannot fit
+in is refused from the header before anything is read (exit 1, a message that says how many
+faces fit, no octree file), a limit with room builds it, and a size that is not one is refused.
+
+    memory_limit.py <program> [arguments...]
+"""
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+
+
+def grid_ply(n):
+    """A binary PLY of an n x n grid of points (2 (n-1)^2 triangles) with a bumpy height."""
+    points = [(i / n, j / n, ((i * 7 + j * 13) % 5) / (5.0 * n)) for j in range(n) for i in range(n)]
+    faces = []
+    for j in range(n - 1):
+        for i in range(n - 1):
+            a = j * n + i
+            faces += [(a, a + 1, a + n + 1), (a, a + n + 1, a + n)]
+    head = (f'ply\nformat binary_little_endian 1.0\nelement vertex {len(points)}\n'
+            'property float x\nproperty float y\nproperty float z\n'
+            f'element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n')
+    body = b''.join(struct.pack('<3f', *p) for p in points)
+    body += b''.join(struct.pack('<B3i', 3, *f) for f in faces)
+    return head.encode() + body, len(faces)
+
+
+def main():
+    command = sys.argv[1:]
+    failures = []
+    with tempfile.TemporaryDirectory(prefix='plod_memory_') as folder:
+        model = os.path.join(folder, 'grid.ply')
+        out = os.path.join(folder, 'grid.plod')
+        data, faces = grid_ply(120)
+        with open(model, 'wb') as f:
+            f.write(data)
+        run = subprocess.run(command + [model, '--memory', '1M', '--save', out],
+                             capture_output=True, text=True, timeout=300)
+        print(run.stdout + run.stderr)
+        if run.returncode != 1 or 'at most' not in run.stderr or 'Nothing was read' not in run.stderr:
+            failures.append(f'--memory 1M: exit {run.returncode}, no refusal saying what fits')
+        elif os.path.exists(out):
+            failures.append('--memory 1M: an octree file was written')
+        else:
+            fit = int(run.stderr.split('at most ')[1].split()[0])
+            if not 0 < fit < faces:
+                failures.append(f'--memory 1M: {fit} faces said to fit of {faces}')
+        run = subprocess.run(command + [model, '--memory', '0.5G', '--save', out],
+                             capture_output=True, text=True, timeout=300)
+        if run.returncode != 0 or not os.path.exists(out) or 'header: ' not in run.stdout:
+            failures.append(f'--memory 0.5G: exit {run.returncode}, {run.stderr.strip()}')
+        run = subprocess.run(command + [model, '--memory', 'lots'],
+                             capture_output=True, text=True, timeout=300)
+        if run.returncode != 1 or '--memory takes a size' not in run.stderr:
+            failures.append(f'--memory lots: exit {run.returncode}, {run.stderr.strip()}')
+    for f in failures:
+        print('FAIL ' + f)
+    print(f'{len(failures)} failure(s)')
+    return 1 if failures else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
