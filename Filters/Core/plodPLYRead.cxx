@@ -271,8 +271,8 @@ private:
       }
       else if (k < 3)
       {
-        return this->Fail(std::string("element 'vertex' has no scalar property '") + names[k] +
-          "'");
+        return this->Fail(
+          std::string("element 'vertex' has no scalar property '") + names[k] + "'");
       }
       else
       {

@@ -68,8 +68,8 @@ using PLYProgress = std::function<bool(double)>;
  * vertex element, a body that does not match its header, an abort from `progress`, or too
  * little memory; `mesh` is then empty. Never throws.
  */
-bool ReadPLYMesh(const std::string& path, PLYMesh* mesh, std::string* why,
-  const PLYProgress& progress = nullptr);
+bool ReadPLYMesh(
+  const std::string& path, PLYMesh* mesh, std::string* why, const PLYProgress& progress = nullptr);
 
 } // namespace plod
 

@@ -53,7 +53,8 @@ void ExpectTetraPoints(const plod::PLYMesh& m)
   {
     for (int a = 0; a < 3; ++a)
     {
-      const double v = m.PointsDouble.empty() ? m.PointsFloat[3 * p + a] : m.PointsDouble[3 * p + a];
+      const double v =
+        m.PointsDouble.empty() ? m.PointsFloat[3 * p + a] : m.PointsDouble[3 * p + a];
       EXPECT_EQ(v, Tetra[p][a]) << p << " " << a;
     }
   }
