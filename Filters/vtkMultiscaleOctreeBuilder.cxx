@@ -158,7 +158,7 @@ int vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(
   const long long cellsPerLevel[22], long long numberOfPoints, bool cloud)
 {
   static_assert(plod::MaxFinestLevel + 1 == 22, "one count per level 0..21");
-  if (!cellsPerLevel || cellsPerLevel[0] != 1)
+  if (!cellsPerLevel)
   {
     return -1;
   }
@@ -166,19 +166,8 @@ int vtkMultiscaleOctreeBuilder::ChooseFinestLevelFromCounts(
   for (int l = 0; l <= plod::MaxFinestLevel; ++l)
   {
     cells[l] = static_cast<int64_t>(cellsPerLevel[l]);
-    // a cell has at most 8 children (compared by division: 8 * 8^20 overflows)
-    if (l > 0 && (cells[l] < cells[l - 1] || (cells[l] - 1) / 8 >= cells[l - 1]))
-    {
-      return -1;
-    }
   }
-  if (numberOfPoints < cells[plod::MaxFinestLevel])
-  {
-    return -1;
-  }
-  // the kernel's rule, without lowering for memory (an infinite limit never lowers it)
-  return plod::ChooseFinestLevel(
-    cells, static_cast<int64_t>(numberOfPoints), 0, cloud, std::numeric_limits<double>::infinity());
+  return plod::ChooseFinestLevelFromCounts(cells, static_cast<int64_t>(numberOfPoints), cloud);
 }
 
 //------------------------------------------------------------------------------

@@ -344,42 +344,17 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
   report.Phase("cloud level", 0.02, 0.06);
   const int64_t n = static_cast<int64_t>(finite.size());
   std::vector<Item> items(n);
-  const double scale21 = std::ldexp(1.0, MaxFinestLevel) / out.RootEdge;
-  const uint32_t cells21 = 1u << MaxFinestLevel;
-  auto cell = [](double u, uint32_t cells) {
-    if (!(u >= 0))
-    {
-      return 0u;
-    }
-    return u >= double(cells) ? cells - 1 : static_cast<uint32_t>(u);
-  };
+  const CellQuantizer grid(out.Origin, out.RootEdge);
   for (int64_t r = 0; r < n; ++r)
   {
     const int64_t i = finite[r];
-    items[r] = { MortonEncode(cell((X(i, 0) - out.Origin[0]) * scale21, cells21),
-                   cell((X(i, 1) - out.Origin[1]) * scale21, cells21),
-                   cell((X(i, 2) - out.Origin[2]) * scale21, cells21)),
-      uint64_t(i) };
+    items[r] = { grid.Key(X(i, 0), X(i, 1), X(i, 2)), uint64_t(i) };
   }
   std::vector<int64_t>().swap(finite);
   RadixSort(items, 3 * MaxFinestLevel, pfor);
   int64_t cells[MaxFinestLevel + 1];
-  {
-    int64_t firstDiffers[MaxFinestLevel + 2] = {};
-    for (int64_t r = 1; r < n; ++r)
-    {
-      if (items[r].Key != items[r - 1].Key)
-      {
-        ++firstDiffers[CommonLevel(items[r].Key, items[r - 1].Key, MaxFinestLevel) + 1];
-      }
-    }
-    int64_t sum = 1;
-    for (int l = 0; l <= MaxFinestLevel; ++l)
-    {
-      sum += firstDiffers[l];
-      cells[l] = sum;
-    }
-  }
+  CountOccupiedCells(
+    n, [&items](int64_t r) { return items[r].Key; }, cells);
   int level = params.FinestLevel;
   if (level < 0)
   {

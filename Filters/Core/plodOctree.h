@@ -65,6 +65,7 @@
 
 #include "plodOctreeSchema.h"
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -239,6 +240,72 @@ inline uint64_t MortonEncode(uint32_t x, uint32_t y, uint32_t z)
     return v;
   };
   return spread(x) | spread(y) << 1 | spread(z) << 2;
+}
+
+/**
+ * The project's one quantisation of positions into cells: the level-21 cell of a coordinate
+ * in the root cube (lower corner `origin`, edge `rootEdge`) is
+ * c = min(2^21 - 1, floor((x - origin) * s)) with s = 2^21 / rootEdge computed first, and 0
+ * for a coordinate below the cube or NaN; the level-l cell is c >> (21 - l). The builder, the
+ * cloud surface and the partition of distributed builds all use it, so a point lies in the
+ * same cell for each of them, to the last bit.
+ */
+struct CellQuantizer
+{
+  double Origin[3] = { 0, 0, 0 };
+  double Scale = 1;
+
+  CellQuantizer() = default;
+  CellQuantizer(const double origin[3], double rootEdge)
+    : Origin{ origin[0], origin[1], origin[2] }
+    , Scale(std::ldexp(1.0, MaxFinestLevel) / rootEdge)
+  {
+  }
+
+  /// The level-21 cell coordinate of `x` on `axis`.
+  uint32_t Cell(double x, int axis) const
+  {
+    constexpr uint32_t cells = 1u << MaxFinestLevel;
+    const double u = (x - this->Origin[axis]) * this->Scale;
+    if (!(u >= 0))
+    {
+      return 0u;
+    }
+    return u >= double(cells) ? cells - 1 : static_cast<uint32_t>(u);
+  }
+
+  /// The Morton key of the level-21 cell of a point.
+  uint64_t Key(double x, double y, double z) const
+  {
+    return MortonEncode(this->Cell(x, 0), this->Cell(y, 1), this->Cell(z, 2));
+  }
+};
+
+/**
+ * The occupied cells of every level 0..21 (`cells[l]`) over `n` level-21 Morton keys sorted in
+ * increasing order (duplicates allowed), `keyAt(r)` giving the r-th: the number of distinct
+ * keys >> 3 (21 - l). All zero when n is 0.
+ */
+template <typename KeyAt>
+void CountOccupiedCells(int64_t n, KeyAt keyAt, int64_t cells[MaxFinestLevel + 1])
+{
+  int64_t firstDiffers[MaxFinestLevel + 2] = {};
+  for (int64_t r = 1; r < n; ++r)
+  {
+    const uint64_t x = keyAt(r) ^ keyAt(r - 1);
+    if (x != 0)
+    {
+      // two cells first differ one level below their lowest common ancestor's
+      const int common = MaxFinestLevel - (63 - __builtin_clzll(x)) / 3 - 1;
+      ++firstDiffers[common + 1];
+    }
+  }
+  int64_t sum = n > 0 ? 1 : 0;
+  for (int l = 0; l <= MaxFinestLevel; ++l)
+  {
+    sum += firstDiffers[l];
+    cells[l] = sum;
+  }
 }
 
 /// Inverse of MortonEncode.

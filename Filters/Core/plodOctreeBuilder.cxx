@@ -49,6 +49,28 @@ namespace
 constexpr int64_t LeafPoints = 4;
 }
 
+int ChooseFinestLevelFromCounts(const int64_t cells[MaxFinestLevel + 1], int64_t points, bool cloud)
+{
+  if (!cells || cells[0] != 1)
+  {
+    return -1;
+  }
+  for (int l = 1; l <= MaxFinestLevel; ++l)
+  {
+    // a cell has at most 8 children (compared by division: 8 * 8^20 overflows)
+    if (cells[l] < cells[l - 1] || (cells[l] - 1) / 8 >= cells[l - 1])
+    {
+      return -1;
+    }
+  }
+  if (points < cells[MaxFinestLevel])
+  {
+    return -1;
+  }
+  // an infinite limit never lowers the level
+  return ChooseFinestLevel(cells, points, 0, cloud, std::numeric_limits<double>::infinity());
+}
+
 double EstimateOctreeBytes(int64_t points, int64_t triangles)
 {
   // leaves of LeafPoints points, and a full octree's 8/7 nodes per leaf
@@ -625,23 +647,12 @@ bool MeshBuild::SortPoints()
   const int64_t np = this->S.NumberOfPoints;
   std::vector<Item> items;
   items.reserve(this->UsedPoints);
-  const double scale = std::ldexp(1.0, MaxFinestLevel) / this->Edge;
-  const uint32_t cells = 1u << MaxFinestLevel;
-  auto cell = [cells](double u) {
-    if (!(u >= 0))
-    {
-      return 0u;
-    }
-    return u >= double(cells) ? cells - 1 : static_cast<uint32_t>(u);
-  };
+  const CellQuantizer grid(this->Origin, this->Edge);
   for (int64_t i = 0; i < np; ++i)
   {
     if (this->Used[i])
     {
-      items.push_back({ MortonEncode(cell((this->S.X(i, 0) - this->Origin[0]) * scale),
-                          cell((this->S.X(i, 1) - this->Origin[1]) * scale),
-                          cell((this->S.X(i, 2) - this->Origin[2]) * scale)),
-        uint64_t(i) });
+      items.push_back({ grid.Key(this->S.X(i, 0), this->S.X(i, 1), this->S.X(i, 2)), uint64_t(i) });
     }
   }
   std::vector<uint8_t>().swap(this->Used);
@@ -664,22 +675,8 @@ bool MeshBuild::SortPoints()
     this->Key21[r] = items[r].Key;
     this->Rank[this->Order[r]] = static_cast<int32_t>(r);
   }
-  // occupied cells of every level: consecutive points first differ at level CommonLevel + 1
-  int64_t firstDiffers[MaxFinestLevel + 2] = {};
-  for (int64_t r = 1; r < this->Points; ++r)
-  {
-    const uint64_t a = this->Key21[r - 1], b = this->Key21[r];
-    if (a != b)
-    {
-      ++firstDiffers[CommonLevel(a, b, MaxFinestLevel) + 1];
-    }
-  }
-  int64_t cellsSoFar = 1;
-  for (int l = 0; l <= MaxFinestLevel; ++l)
-  {
-    cellsSoFar += firstDiffers[l];
-    this->Cells[l] = cellsSoFar;
-  }
+  CountOccupiedCells(
+    this->Points, [this](int64_t r) { return this->Key21[r]; }, this->Cells);
   return true;
 }
 

@@ -244,6 +244,16 @@ double EstimateOctreeBytes(int64_t points, int64_t triangles);
 int ChooseFinestLevel(const int64_t cellsPerLevel[MaxFinestLevel + 1], int64_t points,
   int64_t triangles, bool cloud, double memoryLimit, std::string* reason = nullptr);
 
+/**
+ * The automatic finest level from counts gathered elsewhere (the processes of a distributed
+ * build): ChooseFinestLevel without the memory limit's lowering, after checking that the counts
+ * can come from points (cellsPerLevel[0] is 1, no count decreases or grows more than 8 times
+ * from one level to the next, and `points` is at least cellsPerLevel[21]). Returns -1 for
+ * counts that cannot.
+ */
+int ChooseFinestLevelFromCounts(
+  const int64_t cellsPerLevel[MaxFinestLevel + 1], int64_t points, bool cloud);
+
 /// Builds the octree. Returns Ok == false with an error message on invalid input.
 BuildResult BuildOctree(const BuildInput& input, const BuildParameters& parameters,
   const Allocator& allocate, const ParallelFor& parallelFor = SerialFor,

@@ -10,6 +10,7 @@ set(plod_core_sources
   plodOctreeBuilder.cxx
   plodOctreeFile.cxx
   plodOctreeSchema.cxx
+  plodPartition.cxx
   plodPatches.cxx
   plodPLYCheck.cxx
   plodPLYRead.cxx
@@ -26,6 +27,7 @@ set(plod_core_headers
   plodOctreeSchema.h
   plodOctreeStorage.h
   plodParallel.h
+  plodPartition.h
   plodPatches.h
   plodPLYCheck.h
   plodPLYIO.h

@@ -7,36 +7,18 @@
  * Built piece by piece, the octrees would not agree along the piece borders: a cell that two
  * pieces share gets a different representative vertex on each rank (from different points),
  * so a crack opens there even at full resolution. This filter makes every rank's octree agree
- * with the octree of the whole mesh on every cell whose triangles it draws:
- *
- * 1. **One root cube**: the global bounds (all ranks) give the cube the builder would place for
- *    the whole mesh (plod::PlaceRootCube), so the levels of every rank align.
- * 2. **Owned cells**: the occupied cells of the ownership level k (default 3) are counted
- *    (triangles per cell, summed over the ranks) and shared out in Morton order into
- *    contiguous runs of about equal triangle counts, one run per rank.
- * 3. **Complete cells**: rank r receives every triangle whose bounding box meets a cell it owns,
- *    and every triangle whose bounding box meets a cell those triangles touch (the "halo").
- *    Each cell of level >= k that rank r's drawn triangles touch is then complete on r: it
- *    holds every triangle that meets it, as in the whole mesh, so its vertex, cone, error and
- *    clusters are the whole mesh's.
- * 4. **Ghost points**: points whose level-k cell another rank owns are marked in the point-data
- *    array vtkGhostType (vtkDataSetAttributes::DUPLICATEPOINT). The patch generator draws a
- *    triangle only on the rank that owns its lead corner (its corner in the lowest leaf), so
- *    every triangle is drawn by exactly one rank, with the same corners as in a one-rank build.
- * 5. **Closed or open**: the boundary edges of the whole mesh are counted (each rank counts
- *    the edges with an end it owns), for the selector's automatic back-face rule: each rank's
- *    own octree has the halo's rim as boundary and would always draw back faces.
- * 6. **One finest level**: the automatic level (plod::ChooseFinestLevel) from occupied-cell
- *    counts summed over the ranks (each rank counts its owned points; levels above k from the
- *    shared histogram), or RequestedFinestLevel when it is not negative.
+ * with the octree of the whole mesh on every cell whose triangles it draws. The partition is the
+ * kernel plod::PartitionMesh (plodPartition.h, where its steps are stated): one root cube for
+ * all ranks, owned cells of the ownership level k in Morton runs of about equal triangle counts,
+ * every triangle meeting an owned cell or the cells those triangles touch (the halo), ghost
+ * points (the point-data array vtkGhostType, vtkDataSetAttributes::DUPLICATEPOINT) where
+ * another rank owns the point's level-k cell, the boundary edges of the whole mesh, and one
+ * finest level. This filter gathers each rank's triangles, runs the kernel over the controller
+ * and makes the rank's piece a vtkPolyData.
  *
  * Cells coarser than k hold points of several ranks and are complete nowhere: the selector must
  * refine them (vtkPerceptualLODSelector::SetMinimumLevel(k)); ConfigureBuilder and the
- * representation do it. Coincident points are merged (a piece border duplicates the points it
- * cuts through, not always to the last bit): points within RootEdge / 2^32 on every axis, far
- * below the single precision of the octree's points, become one. Points and triangles are put
- * in a canonical order (by position), so every rank holds a cell's points and triangles in the
- * same order and computes the same floating-point sums.
+ * representation do it.
  *
  * Ghost cells of the input (cell array vtkGhostType, DUPLICATECELL or HIDDENCELL: the ghost
  * layers ParaView's filters ask for) are left out, since the rank that owns a cell sends it; the
@@ -57,6 +39,10 @@
 #include "vtkPolyDataAlgorithm.h"
 
 class vtkMultiProcessController;
+namespace plod
+{
+struct PartitionResult;
+}
 class vtkMultiscaleOctreeBuilder;
 
 class PERCEPTUALLODPARAVIEWREPRESENTATION_EXPORT vtkPerceptualLODRedistribution
@@ -107,6 +93,8 @@ protected:
   vtkPerceptualLODRedistribution();
   ~vtkPerceptualLODRedistribution() override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// The rank's piece as a vtkPolyData: double points, triangles, ghost flags and normals.
+  void MakeOutput(const plod::PartitionResult& piece, vtkPolyData* output);
 
   vtkMultiProcessController* Controller = nullptr;
   int OwnershipLevel = 3;
