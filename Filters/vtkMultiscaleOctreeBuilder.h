@@ -155,7 +155,8 @@ public:
    * file itself, straight into the compact arrays the build takes (plodPLYRead.h: float or
    * double points as the file has them, 32-bit indices, the normals nx ny nz when present;
    * other vertex properties and elements are skipped, polygons split into fans), so no
-   * vtkPolyData of the model is ever made: about half the memory of vtkPLYReader plus a build.
+   * vtkPolyData of the model is ever made: the input costs about half of what vtkPLYReader's
+   * polydata does (the build's own memory, the larger part, is unchanged).
    * Before any row is read, the header's counts give the least memory the build needs (the
    * mesh's arrays and the build at its coarsest levels); a file that needs more than the
    * memory limit is refused with an error that says how many faces would fit, and nothing is

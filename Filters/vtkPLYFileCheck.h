@@ -29,7 +29,7 @@
  * or 2 points, on which vtkPolyDataNormals crashes, so a program drops them before such filters.
  *
  * @warning The check does not look at the values: NaN or infinite coordinates pass (the
- * octree builder rejects them with an error).
+ * octree builder skips the triangles that use them, with a warning).
  *
  * @sa vtkPLYReader
  */

@@ -27,13 +27,14 @@
  * mapper's input is made from the octree (do not set one); the octree's cut must come from a
  * vtkPerceptualLODSelector or a vtkMultiscaleOctreeCutter.
  *
- * It needs OpenGL 3.1 (buffer textures, integer textures, gl_VertexID) and glMultiDrawElements.
+ * It needs OpenGL 4.0 (buffer textures of three floats, integer textures, gl_VertexID) and
+ * glMultiDrawElements.
  * IsSupported() tells whether a render window has them; vtkPerceptualLODActor falls back to the
  * CPU path with a warning naming the missing feature.
  *
  * @warning Hardware picking and the value pass see the whole surface, not the cut. Ghost flags
  * (PointGhost, a distributed build) are not honoured: every triangle of the cut is drawn, so
- * under MPI the ParaView representation keeps the CPU path.
+ * a distributed build must draw through the CPU path (the ParaView representation always does).
  *
  * @sa vtkPerceptualLODActor vtkMultiscalePatchGenerator vtkPerceptualLODSelector
  */

@@ -93,7 +93,7 @@ namespace plod
 /// How the representative vertex of a cell is computed.
 enum class VertexRule
 {
-  /// SRCC §2 / METHOD §1, as far as it applies to a cluster of input points: the mean of the
+  /// SRCC §2 (docs/design.md, "The octree"), as far as it applies to a cluster of input points: the mean of the
   /// input points inside the cell (the paper adds the points where the surface crosses the
   /// cell's edges; this surface has no such crossings, see the file documentation).
   Mean = 0,
