@@ -15,8 +15,8 @@
  * rewritten in place every frame (their modification times change): an output kept from an
  * earlier frame shows the latest cut; DeepCopy it to keep a frame's cut.
  *
- * Method (docs/design.md, "Selection"; SRCC §3.3-3.5 by Wakatsuki et al. 2003; TMM §3-4; Wang & Sato eq. 1-2;
- * Cheng §2), walking from the root:
+ * Method (docs/design.md, "Selection"; SRCC §3.3-3.5 by Wakatsuki et al. 2003; TMM §3-4; Wang &
+ * Sato eq. 1-2; Cheng §2), walking from the root:
  * 1. cells wholly outside the view frustum are hidden and not refined;
  * 2. contour: with gamma the angle between v_e (vertex to eye) and the cone axis, cells with
  *    gamma < pi/2 - theta are front-facing, gamma > pi/2 + theta back-facing (hidden, not

@@ -303,7 +303,8 @@ inline bool GenerateScanPLY(const BaseMesh& base, int n, uint64_t seed, const st
   const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   auto emitBlocks = [&](int64_t count, int64_t pointsPerItem,
                       const std::function<void(int64_t item, float* out)>& make) {
-    const int64_t block = std::max<int64_t>(1, (int64_t(1) << 20) / std::max<int64_t>(1, pointsPerItem));
+    const int64_t block =
+      std::max<int64_t>(1, (int64_t(1) << 20) / std::max<int64_t>(1, pointsPerItem));
     std::vector<float> xyz;
     for (int64_t first = 0; first < count && ok; first += block)
     {

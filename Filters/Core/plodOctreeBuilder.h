@@ -93,9 +93,9 @@ namespace plod
 /// How the representative vertex of a cell is computed.
 enum class VertexRule
 {
-  /// SRCC §2 (docs/design.md, "The octree"), as far as it applies to a cluster of input points: the mean of the
-  /// input points inside the cell (the paper adds the points where the surface crosses the
-  /// cell's edges; this surface has no such crossings, see the file documentation).
+  /// SRCC §2 (docs/design.md, "The octree"), as far as it applies to a cluster of input points: the
+  /// mean of the input points inside the cell (the paper adds the points where the surface crosses
+  /// the cell's edges; this surface has no such crossings, see the file documentation).
   Mean = 0,
   /// Minimiser of the sum of the plane quadrics of the triangles at the cell's points
   /// (Lindstrom 2000), solved by a truncated eigen-decomposition about the mean point and

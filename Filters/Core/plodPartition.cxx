@@ -298,8 +298,7 @@ private:
       }
       const double* p = position(a);
       const double* q = position(b);
-      return std::lexicographical_compare(p, p + 3, q, q + 3) ||
-        (std::equal(p, p + 3, q) && a < b);
+      return std::lexicographical_compare(p, p + 3, q, q + 3) || (std::equal(p, p + 3, q) && a < b);
     });
     std::vector<int64_t> pointOf(3 * n);
     int64_t points = 0;

@@ -115,9 +115,9 @@ struct PartitionResult
   int64_t NumberOfSkippedTriangles = 0; ///< this process's unusable input triangles
   bool HasNormals = false;              ///< every process had normals
 
-  std::vector<double> Points;    ///< 3 per point, in canonical order
-  std::vector<double> Normals;   ///< 3 per point when HasNormals
-  std::vector<uint8_t> Ghost;    ///< 1 per point: owned by another process
+  std::vector<double> Points;     ///< 3 per point, in canonical order
+  std::vector<double> Normals;    ///< 3 per point when HasNormals
+  std::vector<uint8_t> Ghost;     ///< 1 per point: owned by another process
   std::vector<int64_t> Triangles; ///< 3 per triangle, in canonical order
 };
 

@@ -26,7 +26,11 @@ double ParseCount(const std::string& text)
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   const std::string unit = end;
-  const double scale = unit.empty() ? 1 : unit == "K" ? 1e3 : unit == "M" ? 1e6 : unit == "G" ? 1e9 : -1;
+  const double scale = unit.empty() ? 1
+    : unit == "K"                   ? 1e3
+    : unit == "M"                   ? 1e6
+    : unit == "G"                   ? 1e9
+                                    : -1;
   return end != text.c_str() && v > 0 && scale > 0 ? v * scale : -1;
 }
 }
@@ -49,15 +53,15 @@ int main(int argc, char* argv[])
       out = a;
     else
     {
-      std::fprintf(stderr, "usage: %s out.ply --triangles 256M [--base model.ply] [--seed 1]\n",
-        argv[0]);
+      std::fprintf(
+        stderr, "usage: %s out.ply --triangles 256M [--base model.ply] [--seed 1]\n", argv[0]);
       return 1;
     }
   }
   if (out.empty() || !(wanted > 0))
   {
-    std::fprintf(stderr, "usage: %s out.ply --triangles 256M [--base model.ply] [--seed 1]\n",
-      argv[0]);
+    std::fprintf(
+      stderr, "usage: %s out.ply --triangles 256M [--base model.ply] [--seed 1]\n", argv[0]);
     return 1;
   }
   if (basePath.empty())

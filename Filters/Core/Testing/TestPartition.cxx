@@ -243,7 +243,8 @@ TEST(Partition, EverySplitAgreesWithOneRankAndDrawsEachTriangleOnce)
     EXPECT_EQ(closed, one[0].NumberOfBoundaryEdges == 0);
     EXPECT_EQ(std::count(one[0].Ghost.begin(), one[0].Ghost.end(), 1), 0);
     EXPECT_EQ(one[0].NumberOfHaloTriangles, 0);
-    EXPECT_EQ(static_cast<int64_t>(one[0].Triangles.size()), static_cast<int64_t>(m.Triangles.size()));
+    EXPECT_EQ(
+      static_cast<int64_t>(one[0].Triangles.size()), static_cast<int64_t>(m.Triangles.size()));
     EXPECT_TRUE(one[0].HasNormals);
     std::map<Triangle, int> whole;
     for (size_t t = 0; t < m.Triangles.size(); t += 3)
@@ -391,7 +392,8 @@ TEST(Partition, UnusableTrianglesAreSkippedAndNormalsNeedEveryRank)
   const auto one = Partition(m, 1, 1);
   ASSERT_TRUE(one[0].Ok);
   EXPECT_EQ(one[0].NumberOfSkippedTriangles, 2);
-  EXPECT_EQ(static_cast<int64_t>(one[0].Triangles.size()), static_cast<int64_t>(m.Triangles.size()) - 6);
+  EXPECT_EQ(
+    static_cast<int64_t>(one[0].Triangles.size()), static_cast<int64_t>(m.Triangles.size()) - 6);
   const auto mixed = Partition(m, 2, 4, false); // rank 0 without normals
   EXPECT_FALSE(mixed[0].HasNormals);
   EXPECT_FALSE(mixed[1].HasNormals);

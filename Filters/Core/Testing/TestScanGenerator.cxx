@@ -20,8 +20,8 @@ namespace fs = std::filesystem;
 
 std::string TempPath(const std::string& name)
 {
-  return (fs::temp_directory_path() /
-    ("plod_scan_" + std::to_string(::getpid()) + "_" + name + ".ply"))
+  return (
+    fs::temp_directory_path() / ("plod_scan_" + std::to_string(::getpid()) + "_" + name + ".ply"))
     .string();
 }
 
@@ -100,8 +100,7 @@ TEST(ScanGenerator, AFileThatCannotBeWrittenLeavesNothing)
   const std::string folder = TempPath("no_such_folder");
   const std::string path = folder + "/model.ply";
   std::string why;
-  EXPECT_FALSE(
-    plodtest::GenerateScanPLY(plodtest::OctahedralSphere(0), 2, 1, path, nullptr, &why));
+  EXPECT_FALSE(plodtest::GenerateScanPLY(plodtest::OctahedralSphere(0), 2, 1, path, nullptr, &why));
   EXPECT_NE(why.find("cannot write"), std::string::npos) << why;
   EXPECT_FALSE(fs::exists(path + ".partial"));
   EXPECT_FALSE(fs::exists(path));
