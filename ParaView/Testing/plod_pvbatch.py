@@ -352,6 +352,22 @@ def octree_filters(out):
     count = LOD(from_file).GetNumberOfTriangles()
     check(count == direct, "the octree read back draws the same triangles (%d, %d)"
           % (count, direct))
+
+    # a PLY file built without loading it: the same surface triangles as the mesh
+    from paraview.simple import MultiscaleOctreeFromPLYFile
+    ply = os.path.join(out, "contour.ply")
+    if os.path.exists(ply):
+        os.remove(ply)
+    SaveData(ply, proxy=contour)
+    Hide(read, view)
+    from_ply = MultiscaleOctreeFromPLYFile(FileName=ply)
+    shown = Show(from_ply, view)
+    Render(view)
+    lod = LOD(shown)
+    cells = contour.GetDataInformation().GetNumberOfCells()
+    check(lod.GetNumberOfOctreeTriangles() == cells and lod.GetNumberOfTriangles() > 0,
+          "the octree of the PLY file holds its %d triangles (%d) and draws %d"
+          % (cells, lod.GetNumberOfOctreeTriangles(), lod.GetNumberOfTriangles()))
     print("octree filters: ok", flush=True)
 
 
