@@ -2,6 +2,7 @@
 #include "vtkPerceptualLODSelector.h"
 
 #include "plodSelector.h"
+#include "plodViewModel.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -26,8 +27,6 @@ vtkStandardNewMacro(vtkPerceptualLODSelector);
 
 namespace
 {
-constexpr double Pi = 3.14159265358979323846;
-
 void Identity(double m[16])
 {
   for (int i = 0; i < 16; ++i)
@@ -48,34 +47,6 @@ bool Finite(const double* x, int n)
   return true;
 }
 
-void TransformPoint(const double m[16], const double in[3], double out[3])
-{
-  const double p[4] = { in[0], in[1], in[2], 1.0 };
-  double r[4];
-  vtkMatrix4x4::MultiplyPoint(m, p, r);
-  const double w = r[3] != 0 ? r[3] : 1.0;
-  for (int a = 0; a < 3; ++a)
-  {
-    out[a] = r[a] / w;
-  }
-}
-
-/// Linear part applied to a direction, normalised (zero stays zero).
-void TransformDirection(const double m[16], const double in[3], double out[3])
-{
-  for (int a = 0; a < 3; ++a)
-  {
-    out[a] = m[4 * a] * in[0] + m[4 * a + 1] * in[1] + m[4 * a + 2] * in[2];
-  }
-  const double l = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
-  if (l > 0)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      out[a] /= l;
-    }
-  }
-}
 }
 
 struct vtkPerceptualLODSelector::Internals
@@ -206,11 +177,8 @@ void vtkPerceptualLODSelector::GetFrustumPlanes(double planes[24])
 //------------------------------------------------------------------------------
 double vtkPerceptualLODSelector::GetScreenDistance()
 {
-  if (this->UsePhysicalDisplay)
-  {
-    return this->PixelPitch > 0 ? this->ViewingDistance / this->PixelPitch : 0.0;
-  }
-  return 0.5 * this->ViewportSize[1] / std::tan(0.5 * this->ViewAngle * Pi / 180.0);
+  return plod::ScreenDistance(this->UsePhysicalDisplay, this->PixelPitch, this->ViewingDistance,
+    this->ViewportSize[1], this->ViewAngle);
 }
 
 //------------------------------------------------------------------------------
@@ -360,138 +328,45 @@ int vtkPerceptualLODSelector::RequestData(
   in.FoveationWeights[0] = this->FoveationWeights[0];
   in.FoveationWeights[1] = this->FoveationWeights[1];
 
-  // world -> object
-  double toObject[16];
-  Identity(toObject);
-  double scale = 1.0; // world length per object length
+  // the view model (plodViewModel.h): camera, lights and motion into octree-local terms
+  plod::FrameView frame;
+  frame.CoordinatesAreWorld = this->CoordinatesAreWorld;
+  std::copy(this->ObjectToWorldMatrix, this->ObjectToWorldMatrix + 16, frame.ObjectToWorld);
   if (this->CoordinatesAreWorld)
   {
-    vtkMatrix4x4::Invert(this->ObjectToWorldMatrix, toObject);
-    const double* m = this->ObjectToWorldMatrix;
-    const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
-      m[2] * (m[4] * m[9] - m[5] * m[8]);
-    scale = std::cbrt(std::abs(det));
-    if (!(scale > 0) || !Finite(toObject, 16))
-    {
-      vtkErrorMacro(
-        "Invalid input: the object-to-world matrix is singular; the previous cut is kept.");
-      this->Internal->RestoreLastCut(output);
-      return 1;
-    }
+    vtkMatrix4x4::Invert(this->ObjectToWorldMatrix, frame.WorldToObject);
   }
-  const double* o = view.Origin;
-  auto toLocalPoint = [&](const double p[3], double out[3]) {
-    TransformPoint(toObject, p, out);
-    for (int a = 0; a < 3; ++a)
-      out[a] -= o[a];
-  };
-  toLocalPoint(this->EyePosition, in.Eye);
-  in.UseFrustum = this->UseFrustum;
-  if (this->UseFrustum)
+  std::copy(this->ObjectToViewMatrix, this->ObjectToViewMatrix + 16, frame.ObjectToView);
+  vtkMatrix4x4::Invert(this->PreviousObjectToViewMatrix, frame.PreviousViewToObject);
+  frame.HasPreviousFrame = this->HasPreviousFrame;
+  frame.PreviousFrameTime = this->PreviousFrameTime;
+  frame.FrameInterval = this->FrameInterval;
+  std::copy(this->EyePosition, this->EyePosition + 3, frame.Eye);
+  frame.UseFrustum = this->UseFrustum;
+  std::copy(this->FrustumPlanes, this->FrustumPlanes + 24, frame.FrustumPlanes);
+  frame.Parallel = this->ParallelProjection;
+  frame.ParallelScale = this->ParallelScale;
+  frame.ViewAngle = this->ViewAngle;
+  std::copy(this->ProjectionDirection, this->ProjectionDirection + 3, frame.ProjectionDirection);
+  frame.ScreenDistance = this->GetScreenDistance();
+  frame.ViewportHeight = this->ViewportSize[1];
+  frame.Lights = this->Internal->Lights;
+  std::copy(this->FoveationPoint, this->FoveationPoint + 3, frame.FoveationPoint);
+  std::copy(this->FoveationUp, this->FoveationUp + 3, frame.FoveationUp);
+  std::copy(this->GazeDirection, this->GazeDirection + 3, frame.GazeDirection);
+  frame.InverseVelocitySpeed = this->InverseVelocitySpeed;
+  frame.DirectVelocitySpeed = this->DirectVelocitySpeed;
+  frame.DistancePixelThreshold = this->DistancePixelThreshold;
+  const plod::FrameViewResult framed =
+    plod::MakeFrameView(frame, view.Origin, view.RootEdge, view.FinestLevel, in);
+  if (!framed.Ok)
   {
-    for (int p = 0; p < 6; ++p)
-    {
-      const double* w = this->FrustumPlanes + 4 * p;
-      double obj[4];
-      // plane (row) x M: a plane of the world seen in object coordinates
-      const double* m = this->CoordinatesAreWorld ? this->ObjectToWorldMatrix : toObject;
-      for (int c = 0; c < 4; ++c)
-        obj[c] = w[0] * m[c] + w[1] * m[4 + c] + w[2] * m[8 + c] + w[3] * m[12 + c];
-      for (int a = 0; a < 3; ++a)
-        in.Planes[p][a] = obj[a];
-      in.Planes[p][3] = obj[3] + obj[0] * o[0] + obj[1] * o[1] + obj[2] * o[2];
-    }
+    vtkErrorMacro("Invalid input: " << framed.Error << "; the previous cut is kept.");
+    this->Internal->RestoreLastCut(output);
+    return 1;
   }
-  in.Parallel = this->ParallelProjection;
-  TransformDirection(toObject, this->ProjectionDirection, in.ProjectionDirection);
-  const double ds = this->GetScreenDistance();
-  in.PixelScale =
-    this->ParallelProjection ? 0.5 * this->ViewportSize[1] / this->ParallelScale * scale : ds;
-  for (const plod::SelectorLight& l : this->Internal->Lights)
-  {
-    plod::SelectorLight t = l;
-    if (l.Positional)
-      toLocalPoint(l.Position, t.Position);
-    else
-      TransformDirection(toObject, l.Position, t.Position);
-    in.Lights.push_back(t);
-  }
-  toLocalPoint(this->FoveationPoint, in.FoveationPoint);
-  TransformDirection(toObject, this->FoveationUp, in.FoveationUp);
-  TransformDirection(toObject, this->GazeDirection, in.GazeDirection);
-  const double half = 0.5 * view.RootEdge;
-  in.FoveationCentre[0] = in.FoveationCentre[1] = in.FoveationCentre[2] = half;
-  in.FoveationHeight = view.RootEdge;
-
-  // motion: v_m = M_p M_c v - v, v_f = v_m dt / t_m (TMM §3), affine in v
-  const bool moving = this->HasPreviousFrame && this->PreviousFrameTime > 0;
-  this->ObjectSpeed = 0.0;
-  if (moving)
-  {
-    double prevInverse[16], t[16];
-    vtkMatrix4x4::Invert(this->PreviousObjectToViewMatrix, prevInverse);
-    vtkMatrix4x4::Multiply4x4(prevInverse, this->ObjectToViewMatrix, t);
-    const double f = this->FrameInterval / this->PreviousFrameTime;
-    double A[3][3], b[3];
-    for (int r = 0; r < 3; ++r)
-    {
-      for (int c = 0; c < 3; ++c)
-        A[r][c] = f * (t[4 * r + c] - (r == c ? 1.0 : 0.0));
-      b[r] = f * t[4 * r + 3];
-    }
-    // local coordinates: v_obj = v_local + origin
-    for (int r = 0; r < 3; ++r)
-    {
-      in.MotionB[r] = b[r] + A[r][0] * o[0] + A[r][1] * o[1] + A[r][2] * o[2];
-      for (int c = 0; c < 3; ++c)
-        in.MotionA[r][c] = A[r][c];
-    }
-    // the object's speed, one number for IPV and DPV: the root-mean-square displacement of the
-    // root cell's eight corners, in pixels per frame interval at the root centre's distance.
-    // (The centre alone does not move when the camera orbits about it.)
-    double d[3];
-    for (int r = 0; r < 3; ++r)
-      d[r] = in.Eye[r] - half;
-    const double dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    const double k = this->ParallelProjection ? in.PixelScale : (dist > 0 ? ds / dist : 0.0);
-    double sum = 0;
-    for (int corner = 0; corner < 8; ++corner)
-    {
-      const double c[3] = { (corner & 1) ? view.RootEdge : 0.0, (corner & 2) ? view.RootEdge : 0.0,
-        (corner & 4) ? view.RootEdge : 0.0 };
-      for (int r = 0; r < 3; ++r)
-      {
-        const double vf = in.MotionA[r][0] * c[0] + in.MotionA[r][1] * c[1] +
-          in.MotionA[r][2] * c[2] + in.MotionB[r];
-        sum += vf * vf;
-      }
-    }
-    this->ObjectSpeed = std::sqrt(sum / 8) * k;
-  }
-  if (in.Motion == plod::MotionModel::InverseVelocity)
-  {
-    in.VelocityFactor = std::max(1.0, this->ObjectSpeed / this->InverseVelocitySpeed);
-  }
-  else if (in.Motion == plod::MotionModel::DirectVelocity)
-  {
-    const double left = 1.0 - this->ObjectSpeed / this->DirectVelocitySpeed;
-    in.VelocityFactor = left > 0 ? 1.0 / left : std::numeric_limits<double>::infinity();
-  }
-  if (in.Motion == plod::MotionModel::MicroMotion && !moving)
-  {
-    in.Motion = plod::MotionModel::None; // first frame, or t_m = 0: no motion
-  }
-  // Wang & Sato: one level from the distance to the root's centre
-  {
-    const double d[3] = { in.Eye[0] - half, in.Eye[1] - half, in.Eye[2] - half };
-    const double dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    const double angle = this->ParallelProjection
-      ? 2.0 * std::atan(this->ParallelScale / std::max(dist, 1e-300))
-      : this->ViewAngle * Pi / 180.0;
-    this->DistanceLevel = plod::DistanceLevel(view.RootEdge, view.FinestLevel,
-      this->DistancePixelThreshold, angle, dist, this->ViewportSize[1]);
-    in.DistanceLevel = this->DistanceLevel;
-  }
+  this->ObjectSpeed = framed.ObjectSpeed;
+  this->DistanceLevel = framed.DistanceLevel;
 
   std::string why;
   if (!plod::ValidateSelectionInput(in, &why))

@@ -14,7 +14,8 @@ set(plod_core_sources
   plodPatches.cxx
   plodPLYCheck.cxx
   plodPLYRead.cxx
-  plodSelector.cxx)
+  plodSelector.cxx
+  plodViewModel.cxx)
 set(plod_core_headers
   plodBudgetController.h
   plodBuildUtil.h
@@ -32,4 +33,5 @@ set(plod_core_headers
   plodPLYCheck.h
   plodPLYIO.h
   plodPLYRead.h
-  plodSelector.h)
+  plodSelector.h
+  plodViewModel.h)
