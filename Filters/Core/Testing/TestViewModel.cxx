@@ -84,8 +84,8 @@ TEST(ViewModel, VelocityFactors)
   EXPECT_DOUBLE_EQ(plod::VelocityFactor(M::InverseVelocity, 30, 10, 100), 3.0);
   EXPECT_DOUBLE_EQ(plod::VelocityFactor(M::InverseVelocity, 5, 10, 100), 1.0);
   EXPECT_DOUBLE_EQ(plod::VelocityFactor(M::DirectVelocity, 5, 1, 10), 2.0);
-  EXPECT_EQ(plod::VelocityFactor(M::DirectVelocity, 10, 1, 10),
-    std::numeric_limits<double>::infinity());
+  EXPECT_EQ(
+    plod::VelocityFactor(M::DirectVelocity, 10, 1, 10), std::numeric_limits<double>::infinity());
   EXPECT_EQ(plod::VelocityFactor(M::MicroMotion, 50, 1, 10), 1.0);
   EXPECT_EQ(plod::VelocityFactor(M::None, 50, 1, 10), 1.0);
 }
@@ -137,7 +137,8 @@ TEST(ViewModel, FrameInLocalCoordinates)
   EXPECT_EQ(in.FoveationHeight, 4.0); // Cheng's H: the root's edge
   EXPECT_EQ(in.Motion, plod::MotionModel::None) << "micro motion without a previous frame";
   EXPECT_EQ(r.ObjectSpeed, 0.0);
-  EXPECT_EQ(r.DistanceLevel, plod::DistanceLevel(4, 6, 1, 30 * Pi / 180, std::sqrt(4.0 + 4 + 64), 600));
+  EXPECT_EQ(
+    r.DistanceLevel, plod::DistanceLevel(4, 6, 1, 30 * Pi / 180, std::sqrt(4.0 + 4 + 64), 600));
   EXPECT_EQ(in.DistanceLevel, r.DistanceLevel);
 
   // parallel, world coordinates scaled by 2: pixels per object length double
@@ -153,8 +154,7 @@ TEST(ViewModel, FrameInLocalCoordinates)
   EXPECT_DOUBLE_EQ(in.PixelScale, 0.5 * 600 / 3 * 2);
   EXPECT_DOUBLE_EQ(in.Eye[2], 6.5 - 3); // 13 / 2 - origin
   const double dist = std::sqrt(1.5 * 1.5 + 1 + 1.5 * 1.5);
-  EXPECT_EQ(rp.DistanceLevel,
-    plod::DistanceLevel(4, 6, 1, 2 * std::atan(3 / dist), dist, 600));
+  EXPECT_EQ(rp.DistanceLevel, plod::DistanceLevel(4, 6, 1, 2 * std::atan(3 / dist), dist, 600));
 
   // moving: IPV's factor from the speed in pixels at the root centre's distance
   plod::FrameView m = f;
