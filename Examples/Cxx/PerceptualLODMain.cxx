@@ -162,33 +162,47 @@ int main(int argc, char* argv[])
       // read by the builder itself: its header is checked against the memory limit first
       std::printf("model: %s (read by the builder, memory limit %.0f MiB)\n", file.c_str(),
         builder->GetEffectiveMemoryLimit());
-      // checked in full first (one pass through a small buffer): a corrupt body is named to
-      // the row before the build starts; then the header's counts give the estimates
+      // the header first: its counts give the estimates, and a model that cannot fit is left
+      // to the builder, which refuses it before reading a row; one that can is checked in full
+      // (one pass through a small buffer), so a corrupt body is named to the row before the
+      // build starts
       plod::PLYSummary header;
       std::string why;
-      if (!plod::CheckPLYFile(file, &why, &header))
-      {
+      auto refuse = [&]() {
         std::fprintf(stderr,
           "%s: %s\ncannot read a model from '%s' (PLY, STL, OBJ, VTP or .plod)\n", file.c_str(),
           why.c_str(), file.c_str());
         return 1;
-      }
-      if (!header.Warning.empty())
+      };
+      if (!plod::ReadPLYHeader(file, &why, &header))
       {
-        std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), header.Warning.c_str());
+        std::string where; // the full check names the row where the body parts from the header
+        if (!plod::CheckPLYFile(file, &where))
+        {
+          why = where;
+        }
+        return refuse();
       }
+      const double MiB = 1024.0 * 1024.0;
+      const double least = plod::EstimatePLYMeshBytes(header) +
+        plod::EstimateBuildMemory(
+          header.NumberOfVertices, header.NumberOfFaces, 9, header.NumberOfFaces == 0);
+      std::printf("header: %lld points, %lld faces; memory at least %.0f MiB (the mesh's "
+                  "arrays %.0f MiB and the build); octree file about %.0f MiB\n",
+        static_cast<long long>(header.NumberOfVertices),
+        static_cast<long long>(header.NumberOfFaces), least / MiB,
+        plod::EstimatePLYMeshBytes(header) / MiB,
+        plod::EstimateOctreeBytes(header.NumberOfVertices, header.NumberOfFaces) / MiB);
+      if (least <= builder->GetEffectiveMemoryLimit() * MiB)
       {
-        const double MiB = 1024.0 * 1024.0;
-        const bool cloud = header.NumberOfFaces == 0;
-        std::printf("header: %lld points, %lld faces; memory at least %.0f MiB (the mesh's "
-                    "arrays %.0f MiB and the build); octree file about %.0f MiB\n",
-          static_cast<long long>(header.NumberOfVertices),
-          static_cast<long long>(header.NumberOfFaces),
-          (plod::EstimatePLYMeshBytes(header) +
-            plod::EstimateBuildMemory(header.NumberOfVertices, header.NumberOfFaces, 9, cloud)) /
-            MiB,
-          plod::EstimatePLYMeshBytes(header) / MiB,
-          plod::EstimateOctreeBytes(header.NumberOfVertices, header.NumberOfFaces) / MiB);
+        if (!plod::CheckPLYFile(file, &why, &header))
+        {
+          return refuse();
+        }
+        if (!header.Warning.empty())
+        {
+          std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), header.Warning.c_str());
+        }
       }
       std::fflush(stdout);
       builder->SetFileName(file.c_str());
