@@ -98,7 +98,7 @@ public:
   /// rows of fixed size), not the body.
   bool Run(const std::string& path, bool headerOnly = false)
   {
-    if (!this->In.Open(path, this->Why))
+    if (!this->In.Open(path, "a PLY file", this->Why))
     {
       return false;
     }
@@ -705,7 +705,7 @@ private:
           continue;
         }
         const int countSize = Info(p.CountType).Size;
-        if (this->In.Left() < countSize || !this->In.Read(bytes, countSize))
+        if (this->In.Left() < countSize || !this->In.ReadExactly(bytes, countSize))
         {
           return this->Truncated(e, row, "no room for the count of list " + Quote(p.Name), offset);
         }
@@ -740,7 +740,7 @@ private:
         for (int64_t k = 0; k < count; ++k)
         {
           const int64_t itemOffset = this->In.Offset();
-          if (!this->In.Read(bytes, itemSize))
+          if (!this->In.ReadExactly(bytes, itemSize))
           {
             return this->Truncated(e, row,
               "list " + Quote(p.Name) + " item " + std::to_string(k) + " is missing", itemOffset);
@@ -978,31 +978,10 @@ namespace
 bool RunChecker(const std::string& path, std::string* why, PLYSummary* summary,
   const PLYReaderLimits& limits, bool headerOnly)
 {
-  std::string message;
-  PLYSummary local;
-  PLYSummary& s = summary ? *summary : local;
-  s = PLYSummary();
-  bool ok = false;
-  try
-  {
-    Checker checker(&message, &s, limits);
-    ok = checker.Run(path, headerOnly);
-  }
-  catch (const std::bad_alloc&)
-  {
-    message = "out of memory while checking the file";
-    ok = false;
-  }
-  catch (...)
-  {
-    message = "unexpected error while checking the file";
-    ok = false;
-  }
-  if (why)
-  {
-    *why = ok ? std::string() : message;
-  }
-  return ok;
+  return fileio::RunCheckSafely(why, summary, [&](std::string* message, PLYSummary* s) {
+    Checker checker(message, s, limits);
+    return checker.Run(path, headerOnly);
+  });
 }
 
 } // namespace

@@ -2,12 +2,13 @@
 /**
  * @file plodPLYIO.h
  * @brief The PLY format's low-level pieces shared by the check (plodPLYCheck) and the
- *        streaming reader (plodPLYRead): type table, number parsing, binary decoding and a file
- *        read forward through a fixed buffer. Internal to the kernels.
+ *        streaming reader (plodPLYRead): type table, number parsing and binary decoding (the
+ *        file itself is read by plodFileInput.h). Internal to the kernels.
  */
 #ifndef plodPLYIO_h
 #define plodPLYIO_h
 
+#include "plodFileInput.h"
 #include "plodPLYCheck.h"
 
 #include <cerrno>
@@ -163,134 +164,7 @@ inline double Decode(const unsigned char* bytes, PLYType t, bool swap)
   return 0;
 }
 
-/// The file, read forward through a fixed buffer.
-class Input
-{
-public:
-  ~Input()
-  {
-    if (this->File)
-    {
-      std::fclose(this->File);
-    }
-  }
-
-  bool Open(const std::string& path, std::string* why)
-  {
-    struct stat st;
-    if (path.empty())
-    {
-      *why = "no file name given";
-      return false;
-    }
-    if (stat(path.c_str(), &st) != 0)
-    {
-      *why = std::string("cannot open: ") + std::strerror(errno);
-      return false;
-    }
-    if (S_ISDIR(st.st_mode))
-    {
-      *why = "is a directory, not a PLY file";
-      return false;
-    }
-    if (!S_ISREG(st.st_mode))
-    {
-      *why = "is not a regular file";
-      return false;
-    }
-    this->File = std::fopen(path.c_str(), "rb");
-    if (!this->File)
-    {
-      *why = std::string("cannot open: ") + std::strerror(errno);
-      return false;
-    }
-    this->FileSize = static_cast<int64_t>(st.st_size);
-    this->Buffer.reset(new unsigned char[BufferSize]);
-    return true;
-  }
-
-  int64_t Size() const { return this->FileSize; }
-  int64_t Offset() const { return this->BufferStart + static_cast<int64_t>(this->Pos); }
-  int64_t Left() const { return this->FileSize - this->Offset(); }
-
-  /// The next byte, or -1 at the end of the file.
-  int Get()
-  {
-    if (this->Pos == this->End && !this->Fill())
-    {
-      return -1;
-    }
-    return this->Buffer[this->Pos++];
-  }
-
-  /// The next byte without consuming it, or -1 at the end of the file.
-  int Peek()
-  {
-    if (this->Pos == this->End && !this->Fill())
-    {
-      return -1;
-    }
-    return this->Buffer[this->Pos];
-  }
-
-  /// Reads exactly n bytes (n <= 8) into dst; false at the end of the file.
-  bool Read(unsigned char* dst, int n)
-  {
-    if (this->End - this->Pos >= static_cast<size_t>(n))
-    {
-      std::memcpy(dst, this->Buffer.get() + this->Pos, n);
-      this->Pos += n;
-      return true;
-    }
-    for (int i = 0; i < n; ++i)
-    {
-      const int c = this->Get();
-      if (c < 0)
-      {
-        return false;
-      }
-      dst[i] = static_cast<unsigned char>(c);
-    }
-    return true;
-  }
-
-  /// Moves n >= 0 bytes forward (the caller has checked that they are in the file).
-  bool Skip(int64_t n)
-  {
-    if (static_cast<int64_t>(this->End - this->Pos) >= n)
-    {
-      this->Pos += static_cast<size_t>(n);
-      return true;
-    }
-    const int64_t target = this->Offset() + n;
-    if (fseeko(this->File, static_cast<off_t>(target), SEEK_SET) != 0)
-    {
-      return false;
-    }
-    this->BufferStart = target;
-    this->Pos = this->End = 0;
-    return true;
-  }
-
-private:
-  static constexpr size_t BufferSize = 1 << 16;
-
-  bool Fill()
-  {
-    this->BufferStart += static_cast<int64_t>(this->End);
-    this->Pos = this->End = 0;
-    const size_t n = std::fread(this->Buffer.get(), 1, BufferSize, this->File);
-    this->End = n;
-    return n > 0;
-  }
-
-  std::FILE* File = nullptr;
-  std::unique_ptr<unsigned char[]> Buffer;
-  size_t Pos = 0;
-  size_t End = 0;
-  int64_t BufferStart = 0;
-  int64_t FileSize = 0;
-};
+using Input = fileio::FileInput;
 
 } // namespace plyio
 } // namespace plod

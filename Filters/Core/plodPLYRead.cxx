@@ -51,7 +51,7 @@ public:
 
   bool Run(const std::string& path)
   {
-    if (!this->In.Open(path, this->Why))
+    if (!this->In.Open(path, "a PLY file", this->Why))
     {
       return false;
     }
@@ -166,7 +166,7 @@ private:
       return true;
     }
     unsigned char bytes[8];
-    if (!this->In.Read(bytes, Info(t).Size))
+    if (!this->In.ReadExactly(bytes, Info(t).Size))
     {
       return this->Fail("the file ends inside " + Where(e, row) + ", property '" + p.Name + "'");
     }

@@ -21,6 +21,7 @@ set(plod_core_headers
   plodBuildUtil.h
   plodCloudSurface.h
   plodCut.h
+  plodFileInput.h
   plodMeshFileCheck.h
   plodOctree.h
   plodOctreeBuilder.h
