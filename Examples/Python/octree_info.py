@@ -2,42 +2,29 @@
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Examples/Python/octree_info.py [model.ply]
 """
-import os
 import sys
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersSources import vtkSphereSource
-from vtkmodules.vtkIOPLY import vtkPLYReader
 
-from perceptual_lod import vtkMultiscaleOctreeBuilder, vtkPLYFileCheck
-
-
-def checked(path):
-    """`path` if a reader may open it: a regular file (a FIFO would make the reader wait forever)
-    that, for PLY, vtkPLYFileCheck accepts (VTK's PLY reader crashes on some damaged files)."""
-    if not os.path.isfile(path):
-        sys.exit(f'{path}: missing, or not a regular file (a directory, a FIFO or a device)')
-    if path.lower().endswith('.ply'):
-        check = vtkPLYFileCheck()
-        check.SetFileName(path)
-        if not check.Check():
-            sys.exit(f'{path}: {check.GetErrorMessage()}')
-    return path
+from perceptual_lod import vtkMultiscaleOctreeBuilder
 
 
+builder = vtkMultiscaleOctreeBuilder()
 if len(sys.argv) > 1:
-    source = vtkPLYReader()
-    source.SetFileName(checked(sys.argv[1]))
+    # the builder reads a PLY file itself (no polydata of the model), refusing a damaged file,
+    # a FIFO or a model too big for its memory limit with a message
+    builder.SetFileName(sys.argv[1])
 else:
     source = vtkSphereSource()
     source.SetThetaResolution(200)
     source.SetPhiResolution(200)
-
-builder = vtkMultiscaleOctreeBuilder()
-builder.SetInputConnection(source.GetOutputPort())
+    builder.SetInputConnection(source.GetOutputPort())
 builder.Update()
 octree = builder.GetOutput()
+if octree.GetNumberOfNodes() == 0:
+    sys.exit(f'{sys.argv[1]}: no octree (see the message above)')
 
 data = octree.GetNodeData()
 level = vtk_to_numpy(data.GetArray('Level'))
