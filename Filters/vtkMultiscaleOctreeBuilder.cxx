@@ -82,6 +82,22 @@ void CollectTriangles(vtkPolyData* pd, std::vector<int64_t>& tris, std::vector<v
 
 }
 
+/// The input arrays the builder copies (those it cannot use in place), which back the pointers
+/// of a plod::BuildInput until the build ends, and how triangles map to cells.
+struct vtkMultiscaleOctreeBuilder::InputCopies
+{
+  std::vector<double> Points;
+  std::vector<int64_t> Triangles;        ///< split polygons and strips
+  std::vector<vtkIdType> CellOfTriangle; ///< the cell of each split triangle
+  vtkIdType FirstPolygonCell = 0;        ///< cell id of the first polygon (in-place triangles)
+  bool TrianglesInPlace = false;
+  std::vector<float> Normals;
+  std::vector<double> Viewpoints;
+  std::vector<uint8_t> Ghosts;
+  std::vector<float> PointDiffuse, PointSpecular, TriangleDiffuse, TriangleSpecular;
+  bool HasMaterial = false;
+};
+
 //------------------------------------------------------------------------------
 vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
   : FileName(nullptr)
@@ -362,207 +378,12 @@ int vtkMultiscaleOctreeBuilder::RequestData(
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
   plod::BuildInput in;
-  const vtkIdType np = input->GetNumberOfPoints();
-  in.NumberOfPoints = np;
-  // points: used in place when they are float or double triples
-  std::vector<double> pointCopy;
-  {
-    vtkDataArray* pts = input->GetPoints()->GetData();
-    if (pts->GetNumberOfComponents() == 3 && pts->GetDataType() == VTK_DOUBLE)
-    {
-      in.Points = static_cast<const double*>(pts->GetVoidPointer(0));
-    }
-    else if (pts->GetNumberOfComponents() == 3 && pts->GetDataType() == VTK_FLOAT)
-    {
-      in.PointsFloat = static_cast<const float*>(pts->GetVoidPointer(0));
-    }
-    else
-    {
-      pointCopy.resize(3 * np);
-      for (vtkIdType i = 0; i < np; ++i)
-      {
-        pts->GetTuple(i, &pointCopy[3 * i]);
-      }
-      in.Points = pointCopy.data();
-    }
-  }
-
-  // triangles: a triangle-only polygon array is used in place; other polygons and strips are
-  // split into triangles
-  std::vector<int64_t> tris;
-  std::vector<vtkIdType> cellOf; // cell id of each triangle, for cell-data material
-  vtkIdType firstPolyCell = 0;
-  bool inPlace = false;
-  if (vtkPolyData* pd = vtkPolyData::SafeDownCast(input))
-  {
-    firstPolyCell = pd->GetNumberOfVerts() + pd->GetNumberOfLines();
-    vtkCellArray* polys = pd->GetPolys();
-    if (pd->GetNumberOfStrips() == 0 && polys->GetNumberOfCells() > 0 &&
-      polys->IsHomogeneous() == 3)
-    {
-      inPlace = true;
-      in.NumberOfTriangles = polys->GetNumberOfCells();
-      if (polys->IsStorage64Bit())
-      {
-        in.Triangles =
-          reinterpret_cast<const int64_t*>(polys->GetConnectivityArray64()->GetPointer(0));
-      }
-      else
-      {
-        in.Triangles32 =
-          reinterpret_cast<const int32_t*>(polys->GetConnectivityArray32()->GetPointer(0));
-      }
-    }
-    else
-    {
-      CollectTriangles(pd, tris, cellOf);
-      in.NumberOfTriangles = static_cast<int64_t>(tris.size() / 3);
-      in.Triangles = tris.empty() ? nullptr : tris.data();
-    }
-  }
+  InputCopies copies;
+  this->TakePoints(input, in, copies);
+  this->TakeTriangles(input, in, copies);
   this->NumberOfInputTriangles = in.NumberOfTriangles;
-  const bool cloud = in.NumberOfTriangles == 0;
-  auto cellOfTriangle = [&](vtkIdType t) { return inPlace ? firstPolyCell + t : cellOf[t]; };
-
-  // every array is checked against what it describes before the kernel reads it
-  auto lengthError = [this](const char* what, const char* name, vtkIdType has, int comps,
-                       vtkIdType needs, const char* per) {
-    vtkErrorMacro(<< what << " array '" << (name ? name : "") << "' has " << has << " tuple(s) of "
-                  << comps << " component(s); it needs " << needs << " (one per " << per
-                  << "). Empty octree.");
-  };
-
-  // normals: a mesh's shading normals, or a cloud's orientation
-  std::vector<float> normals;
-  if (vtkDataArray* n = input->GetPointData()->GetNormals())
-  {
-    if (n->GetNumberOfComponents() != 3 || n->GetNumberOfTuples() != np)
-    {
-      lengthError(
-        "Normals", n->GetName(), n->GetNumberOfTuples(), n->GetNumberOfComponents(), np, "point");
-      return 1;
-    }
-    normals.resize(3 * np);
-    for (vtkIdType i = 0; i < np; ++i)
-    {
-      double t[3];
-      n->GetTuple(i, t);
-      for (int a = 0; a < 3; ++a)
-      {
-        normals[3 * i + a] = static_cast<float>(t[a]);
-      }
-    }
-    in.PointNormals = normals.data();
-  }
-  std::vector<double> viewpoints;
-  if (cloud)
-  {
-    if (this->ViewpointArrayName)
-    {
-      vtkDataArray* v = input->GetPointData()->GetArray(this->ViewpointArrayName);
-      if (!v)
-      {
-        vtkWarningMacro("Viewpoint array '" << this->ViewpointArrayName
-                                            << "' not found: normals oriented without it.");
-      }
-      else if (v->GetNumberOfComponents() != 3 || v->GetNumberOfTuples() != np)
-      {
-        lengthError("Viewpoint", this->ViewpointArrayName, v->GetNumberOfTuples(),
-          v->GetNumberOfComponents(), np, "point");
-        return 1;
-      }
-      else
-      {
-        viewpoints.resize(3 * np);
-        for (vtkIdType i = 0; i < np; ++i)
-        {
-          v->GetTuple(i, &viewpoints[3 * i]);
-        }
-        in.PointViewpoints = viewpoints.data();
-      }
-    }
-    in.HasViewpoint = this->UseViewpoint;
-    std::copy(this->Viewpoint, this->Viewpoint + 3, in.Viewpoint);
-  }
-
-  // ghost points (distributed rendering): VTK's point ghost array, bit DUPLICATEPOINT
-  std::vector<uint8_t> ghosts;
-  if (vtkAbstractArray* g =
-        input->GetPointData()->GetAbstractArray(vtkDataSetAttributes::GhostArrayName()))
-  {
-    auto* flags = vtkUnsignedCharArray::SafeDownCast(g);
-    if (!flags || flags->GetNumberOfComponents() != 1 || flags->GetNumberOfTuples() != np)
-    {
-      vtkErrorMacro("Ghost array '" << vtkDataSetAttributes::GhostArrayName() << "' has "
-                                    << g->GetNumberOfTuples() << " tuple(s) of "
-                                    << g->GetNumberOfComponents() << " component(s) of type "
-                                    << g->GetDataTypeAsString() << "; it needs " << np
-                                    << " unsigned char values (one per point). Empty octree.");
-      return 1;
-    }
-    ghosts.resize(np);
-    const unsigned char* f = flags->GetPointer(0);
-    for (vtkIdType i = 0; i < np; ++i)
-    {
-      ghosts[i] = (f[i] & vtkDataSetAttributes::DUPLICATEPOINT) ? 1 : 0;
-    }
-    in.PointGhost = ghosts.data();
-  }
-
-  // material
-  std::vector<float> pointDiffuse, pointSpecular, triDiffuse, triSpecular;
-  bool hasMaterial = false;
-  bool bad = false;
-  auto material = [&](const char* name, std::vector<float>& pointValues,
-                    std::vector<float>& triValues, const float*& pointOut, const float*& triOut) {
-    if (!name || bad)
-    {
-      return;
-    }
-    if (vtkDataArray* a = input->GetPointData()->GetArray(name))
-    {
-      if (a->GetNumberOfTuples() != np || a->GetNumberOfComponents() < 1)
-      {
-        lengthError(
-          "Point material", name, a->GetNumberOfTuples(), a->GetNumberOfComponents(), np, "point");
-        bad = true;
-        return;
-      }
-      pointValues.resize(np);
-      for (vtkIdType i = 0; i < np; ++i)
-      {
-        pointValues[i] = static_cast<float>(a->GetComponent(i, 0));
-      }
-      pointOut = pointValues.data();
-      hasMaterial = true;
-    }
-    else if (vtkDataArray* c = cloud ? nullptr : input->GetCellData()->GetArray(name))
-    {
-      const vtkIdType cells = input->GetNumberOfCells();
-      if (c->GetNumberOfTuples() != cells || c->GetNumberOfComponents() < 1)
-      {
-        lengthError(
-          "Cell material", name, c->GetNumberOfTuples(), c->GetNumberOfComponents(), cells, "cell");
-        bad = true;
-        return;
-      }
-      triValues.resize(in.NumberOfTriangles);
-      for (vtkIdType t = 0; t < in.NumberOfTriangles; ++t)
-      {
-        triValues[t] = static_cast<float>(c->GetComponent(cellOfTriangle(t), 0));
-      }
-      triOut = triValues.data();
-      hasMaterial = true;
-    }
-    else
-    {
-      vtkWarningMacro("Material array '" << name << "' not found: uniform value used.");
-    }
-  };
-  material(this->DiffuseArrayName, pointDiffuse, triDiffuse, in.PointDiffuse, in.TriangleDiffuse);
-  material(
-    this->SpecularArrayName, pointSpecular, triSpecular, in.PointSpecular, in.TriangleSpecular);
-  if (bad)
+  if (!this->TakeNormals(input, in, copies) || !this->TakeViewpoints(input, in, copies) ||
+    !this->TakeGhosts(input, in, copies) || !this->TakeMaterial(input, in, copies))
   {
     return 1;
   }
@@ -575,7 +396,233 @@ int vtkMultiscaleOctreeBuilder::RequestData(
     return !this->GetAbortExecute();
   };
   return this->RunBuild(
-    in, hasMaterial, this->GetEffectiveMemoryLimit() * 1024.0 * 1024.0, progress, output);
+    in, copies.HasMaterial, this->GetEffectiveMemoryLimit() * 1024.0 * 1024.0, progress, output);
+}
+
+//------------------------------------------------------------------------------
+// The input's arrays, each checked against what it describes before the kernel reads it. Arrays
+// of the types the kernel takes are used in place; the others are copied into `copies`.
+
+void vtkMultiscaleOctreeBuilder::ReportLengthError(const char* what, const char* name,
+  vtkIdType has, int components, vtkIdType needs, const char* per)
+{
+  vtkErrorMacro(<< what << " array '" << (name ? name : "") << "' has " << has << " tuple(s) of "
+                << components << " component(s); it needs " << needs << " (one per " << per
+                << "). Empty octree.");
+}
+
+void vtkMultiscaleOctreeBuilder::TakePoints(
+  vtkPointSet* input, plod::BuildInput& in, InputCopies& copies)
+{
+  const vtkIdType np = input->GetNumberOfPoints();
+  in.NumberOfPoints = np;
+  vtkDataArray* pts = input->GetPoints()->GetData();
+  if (pts->GetNumberOfComponents() == 3 && pts->GetDataType() == VTK_DOUBLE)
+  {
+    in.Points = static_cast<const double*>(pts->GetVoidPointer(0));
+  }
+  else if (pts->GetNumberOfComponents() == 3 && pts->GetDataType() == VTK_FLOAT)
+  {
+    in.PointsFloat = static_cast<const float*>(pts->GetVoidPointer(0));
+  }
+  else
+  {
+    copies.Points.resize(3 * np);
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      pts->GetTuple(i, &copies.Points[3 * i]);
+    }
+    in.Points = copies.Points.data();
+  }
+}
+
+void vtkMultiscaleOctreeBuilder::TakeTriangles(
+  vtkPointSet* input, plod::BuildInput& in, InputCopies& copies)
+{
+  // a triangle-only polygon array is used in place; other polygons and strips are split
+  vtkPolyData* pd = vtkPolyData::SafeDownCast(input);
+  if (!pd)
+  {
+    return;
+  }
+  copies.FirstPolygonCell = pd->GetNumberOfVerts() + pd->GetNumberOfLines();
+  vtkCellArray* polys = pd->GetPolys();
+  if (pd->GetNumberOfStrips() == 0 && polys->GetNumberOfCells() > 0 && polys->IsHomogeneous() == 3)
+  {
+    copies.TrianglesInPlace = true;
+    in.NumberOfTriangles = polys->GetNumberOfCells();
+    if (polys->IsStorage64Bit())
+    {
+      in.Triangles =
+        reinterpret_cast<const int64_t*>(polys->GetConnectivityArray64()->GetPointer(0));
+    }
+    else
+    {
+      in.Triangles32 =
+        reinterpret_cast<const int32_t*>(polys->GetConnectivityArray32()->GetPointer(0));
+    }
+    return;
+  }
+  CollectTriangles(pd, copies.Triangles, copies.CellOfTriangle);
+  in.NumberOfTriangles = static_cast<int64_t>(copies.Triangles.size() / 3);
+  in.Triangles = copies.Triangles.empty() ? nullptr : copies.Triangles.data();
+}
+
+bool vtkMultiscaleOctreeBuilder::TakeNormals(
+  vtkPointSet* input, plod::BuildInput& in, InputCopies& copies)
+{
+  // a mesh's shading normals, or a cloud's orientation
+  vtkDataArray* n = input->GetPointData()->GetNormals();
+  if (!n)
+  {
+    return true;
+  }
+  const vtkIdType np = input->GetNumberOfPoints();
+  if (n->GetNumberOfComponents() != 3 || n->GetNumberOfTuples() != np)
+  {
+    this->ReportLengthError(
+      "Normals", n->GetName(), n->GetNumberOfTuples(), n->GetNumberOfComponents(), np, "point");
+    return false;
+  }
+  copies.Normals.resize(3 * np);
+  for (vtkIdType i = 0; i < np; ++i)
+  {
+    double t[3];
+    n->GetTuple(i, t);
+    for (int a = 0; a < 3; ++a)
+    {
+      copies.Normals[3 * i + a] = static_cast<float>(t[a]);
+    }
+  }
+  in.PointNormals = copies.Normals.data();
+  return true;
+}
+
+bool vtkMultiscaleOctreeBuilder::TakeViewpoints(
+  vtkPointSet* input, plod::BuildInput& in, InputCopies& copies)
+{
+  if (in.NumberOfTriangles > 0) // meshes: no orientation to estimate
+  {
+    return true;
+  }
+  in.HasViewpoint = this->UseViewpoint;
+  std::copy(this->Viewpoint, this->Viewpoint + 3, in.Viewpoint);
+  if (!this->ViewpointArrayName)
+  {
+    return true;
+  }
+  vtkDataArray* v = input->GetPointData()->GetArray(this->ViewpointArrayName);
+  const vtkIdType np = input->GetNumberOfPoints();
+  if (!v)
+  {
+    vtkWarningMacro("Viewpoint array '" << this->ViewpointArrayName
+                                        << "' not found: normals oriented without it.");
+    return true;
+  }
+  if (v->GetNumberOfComponents() != 3 || v->GetNumberOfTuples() != np)
+  {
+    this->ReportLengthError("Viewpoint", this->ViewpointArrayName, v->GetNumberOfTuples(),
+      v->GetNumberOfComponents(), np, "point");
+    return false;
+  }
+  copies.Viewpoints.resize(3 * np);
+  for (vtkIdType i = 0; i < np; ++i)
+  {
+    v->GetTuple(i, &copies.Viewpoints[3 * i]);
+  }
+  in.PointViewpoints = copies.Viewpoints.data();
+  return true;
+}
+
+bool vtkMultiscaleOctreeBuilder::TakeGhosts(
+  vtkPointSet* input, plod::BuildInput& in, InputCopies& copies)
+{
+  // distributed rendering: VTK's point ghost array, bit DUPLICATEPOINT
+  vtkAbstractArray* g =
+    input->GetPointData()->GetAbstractArray(vtkDataSetAttributes::GhostArrayName());
+  if (!g)
+  {
+    return true;
+  }
+  const vtkIdType np = input->GetNumberOfPoints();
+  auto* flags = vtkUnsignedCharArray::SafeDownCast(g);
+  if (!flags || flags->GetNumberOfComponents() != 1 || flags->GetNumberOfTuples() != np)
+  {
+    vtkErrorMacro("Ghost array '" << vtkDataSetAttributes::GhostArrayName() << "' has "
+                                  << g->GetNumberOfTuples() << " tuple(s) of "
+                                  << g->GetNumberOfComponents() << " component(s) of type "
+                                  << g->GetDataTypeAsString() << "; it needs " << np
+                                  << " unsigned char values (one per point). Empty octree.");
+    return false;
+  }
+  copies.Ghosts.resize(np);
+  const unsigned char* f = flags->GetPointer(0);
+  for (vtkIdType i = 0; i < np; ++i)
+  {
+    copies.Ghosts[i] = (f[i] & vtkDataSetAttributes::DUPLICATEPOINT) ? 1 : 0;
+  }
+  in.PointGhost = copies.Ghosts.data();
+  return true;
+}
+
+bool vtkMultiscaleOctreeBuilder::TakeMaterial(
+  vtkPointSet* input, plod::BuildInput& in, InputCopies& copies)
+{
+  return this->TakeMaterialArray(input, this->DiffuseArrayName, copies.PointDiffuse,
+           copies.TriangleDiffuse, in.PointDiffuse, in.TriangleDiffuse, in, copies) &&
+    this->TakeMaterialArray(input, this->SpecularArrayName, copies.PointSpecular,
+      copies.TriangleSpecular, in.PointSpecular, in.TriangleSpecular, in, copies);
+}
+
+bool vtkMultiscaleOctreeBuilder::TakeMaterialArray(vtkPointSet* input, const char* name,
+  std::vector<float>& pointValues, std::vector<float>& triangleValues, const float*& pointOut,
+  const float*& triangleOut, const plod::BuildInput& in, InputCopies& copies)
+{
+  if (!name)
+  {
+    return true;
+  }
+  const vtkIdType np = input->GetNumberOfPoints();
+  if (vtkDataArray* a = input->GetPointData()->GetArray(name))
+  {
+    if (a->GetNumberOfTuples() != np || a->GetNumberOfComponents() < 1)
+    {
+      this->ReportLengthError(
+        "Point material", name, a->GetNumberOfTuples(), a->GetNumberOfComponents(), np, "point");
+      return false;
+    }
+    pointValues.resize(np);
+    for (vtkIdType i = 0; i < np; ++i)
+    {
+      pointValues[i] = static_cast<float>(a->GetComponent(i, 0));
+    }
+    pointOut = pointValues.data();
+    copies.HasMaterial = true;
+    return true;
+  }
+  vtkDataArray* c = in.NumberOfTriangles == 0 ? nullptr : input->GetCellData()->GetArray(name);
+  if (!c)
+  {
+    vtkWarningMacro("Material array '" << name << "' not found: uniform value used.");
+    return true;
+  }
+  const vtkIdType cells = input->GetNumberOfCells();
+  if (c->GetNumberOfTuples() != cells || c->GetNumberOfComponents() < 1)
+  {
+    this->ReportLengthError(
+      "Cell material", name, c->GetNumberOfTuples(), c->GetNumberOfComponents(), cells, "cell");
+    return false;
+  }
+  triangleValues.resize(in.NumberOfTriangles);
+  for (vtkIdType t = 0; t < in.NumberOfTriangles; ++t)
+  {
+    const vtkIdType cell =
+      copies.TrianglesInPlace ? copies.FirstPolygonCell + t : copies.CellOfTriangle[t];
+    triangleValues[t] = static_cast<float>(c->GetComponent(cell, 0));
+  }
+  triangleOut = triangleValues.data();
+  copies.HasMaterial = true;
+  return true;
 }
 
 //------------------------------------------------------------------------------

@@ -96,6 +96,7 @@
 
 #include <functional> // for RunBuild's progress
 #include <string>     // for the level reason
+#include <vector>     // for TakeMaterialArray
 
 class vtkPointSet;
 class vtkPolyData;
@@ -304,6 +305,22 @@ protected:
   void ReportIgnoredCells(vtkPolyData* input);
   /// Reports invalid parameters as errors; false when there is one.
   bool CheckParameters();
+  ///@{
+  /// The input's arrays for the kernel, each checked against what it describes (false: an
+  /// error was reported). Arrays the kernel cannot use in place are copied into InputCopies.
+  struct InputCopies;
+  void TakePoints(vtkPointSet* input, plod::BuildInput& in, InputCopies& copies);
+  void TakeTriangles(vtkPointSet* input, plod::BuildInput& in, InputCopies& copies);
+  bool TakeNormals(vtkPointSet* input, plod::BuildInput& in, InputCopies& copies);
+  bool TakeViewpoints(vtkPointSet* input, plod::BuildInput& in, InputCopies& copies);
+  bool TakeGhosts(vtkPointSet* input, plod::BuildInput& in, InputCopies& copies);
+  bool TakeMaterial(vtkPointSet* input, plod::BuildInput& in, InputCopies& copies);
+  bool TakeMaterialArray(vtkPointSet* input, const char* name, std::vector<float>& pointValues,
+    std::vector<float>& triangleValues, const float*& pointOut, const float*& triangleOut,
+    const plod::BuildInput& in, InputCopies& copies);
+  void ReportLengthError(const char* what, const char* name, vtkIdType has, int components,
+    vtkIdType needs, const char* per);
+  ///@}
   /// The build from FileName: header, memory check, streaming read, build.
   int BuildFromFile(vtkMultiscaleOctree* output);
   /// Builds the octree of `in` into `output` within `memoryLimit` bytes and reports what the
