@@ -98,8 +98,8 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , FoveationRate(2.0)
   , BackFaceMode(BACK_FACES_AUTOMATIC)
   , HidBackFaces(true)
-  , ContourTolerance(1.0)
-  , BrightnessTolerance(4.0)
+  , ContourTolerance(plod::SelectionInput().ContourTolerance)
+  , BrightnessTolerance(plod::SelectionInput().BrightnessTolerance)
   , TopologyTolerance(1.0)
   , MinimumLevel(0)
   , TriangleBudget(0)
@@ -156,6 +156,14 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
 
 //------------------------------------------------------------------------------
 vtkPerceptualLODSelector::~vtkPerceptualLODSelector() = default;
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::ScaleTolerances(double scale)
+{
+  const plod::SelectionInput defaults;
+  this->SetContourTolerance(scale * defaults.ContourTolerance);
+  this->SetBrightnessTolerance(scale * defaults.BrightnessTolerance);
+}
 
 //------------------------------------------------------------------------------
 void vtkPerceptualLODSelector::SetFrustumPlanes(const double planes[24])

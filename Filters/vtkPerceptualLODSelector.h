@@ -252,6 +252,10 @@ public:
   vtkGetMacro(BrightnessTolerance, double);
   vtkSetMacro(TopologyTolerance, double);
   vtkGetMacro(TopologyTolerance, double);
+  /// The default contour and brightness tolerances times `scale`: T_s = scale pixels and
+  /// T_b = 4 scale (SRCC's preset, T_b = 4 T_s). One knob for coarser or finer cuts; the
+  /// topology tolerance is left as it is.
+  void ScaleTolerances(double scale);
   ///@}
 
   ///@{

@@ -120,8 +120,7 @@ struct Viewer
   void SetScale(double scale)
   {
     this->Scale = scale;
-    this->Selector->SetContourTolerance(1.0 * scale);
-    this->Selector->SetBrightnessTolerance(4.0 * scale);
+    this->Selector->ScaleTolerances(scale);
   }
 
   vtkIdType Triangles()

@@ -36,6 +36,11 @@ import sys
 
 import numpy as np
 
+# the image metrics of the measurements (numpy only), one home for PSNR and erosion
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Testing",
+                                "Quality"))
+import plod_metrics as metrics  # noqa: E402
+
 from paraview import servermanager
 from paraview.simple import (Contour, GetActiveCamera, Render, ResetCamera, Show,
                              Wavelet, CreateView, SaveScreenshot)
@@ -147,38 +152,18 @@ def capture(view):
     return np.asarray(rgb[::-1], dtype=np.float64)
 
 
-def luminance(rgb):
-    return 0.2126 * rgb[:, :, 0] + 0.7152 * rgb[:, :, 1] + 0.0722 * rgb[:, :, 2]
-
-
 def psnr(a, b):
-    mse = float(np.mean((luminance(a) - luminance(b)) ** 2))
-    return float("inf") if mse == 0 else 10.0 * np.log10(255.0 ** 2 / mse)
+    """PSNR of the luminance of two RGB images (plod_metrics, the measurements' own)."""
+    return metrics.psnr(metrics.luminance(a), metrics.luminance(b))
 
 
 def covered(rgb):
     return rgb.max(axis=2) > 0
 
 
-def erode(mask, r):
-    out = mask.copy()
-    for _ in range(r):
-        m = out.copy()
-        m[1:] &= out[:-1]
-        m[:-1] &= out[1:]
-        m[:, 1:] &= out[:, :-1]
-        m[:, :-1] &= out[:, 1:]
-        m[1:, 1:] &= out[:-1, :-1]
-        m[:-1, :-1] &= out[1:, 1:]
-        m[1:, :-1] &= out[:-1, 1:]
-        m[:-1, 1:] &= out[1:, :-1]
-        out = m
-    return out
-
-
 def holes(image, reference, r):
     """Background pixels of `image` inside the reference's object mask eroded by r pixels."""
-    return int((erode(covered(reference), r) & ~covered(image)).sum())
+    return int((metrics.erode(covered(reference), r) & ~covered(image)).sum())
 
 
 def camera_distance(camera):

@@ -58,8 +58,7 @@ const char* Names[] = { "SRCC", "SRCC+TMM", "SCVC", "PSEC", "Distance", "SRCC+IP
 vtkSmartPointer<vtkPerceptualLODSelector> MakeSelector(int mode, double tolerance)
 {
   auto selector = vtkSmartPointer<vtkPerceptualLODSelector>::New();
-  selector->SetContourTolerance(tolerance);
-  selector->SetBrightnessTolerance(4 * tolerance);
+  selector->ScaleTolerances(tolerance);
   selector->SetInputData(GetOctree());
   selector->SetViewportSize(1920, 1080);
   selector->SetViewAngle(30);
@@ -298,8 +297,7 @@ void BM_SelectBisection(benchmark::State& state)
     orbit.Next(selector);
     double frameSeconds = 0;
     auto walk = [&](double s) {
-      selector->SetContourTolerance(tolerance * s);
-      selector->SetBrightnessTolerance(4 * tolerance * s);
+      selector->ScaleTolerances(tolerance * s);
       selector->Update();
       frameSeconds += selector->GetSelectTime();
       visited += static_cast<double>(selector->GetNumberOfVisitedNodes());

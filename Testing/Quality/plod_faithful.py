@@ -259,8 +259,7 @@ class Scene:
         return self.grab()
 
     def render_lod(self, scale=1.0):
-        self.selector.SetContourTolerance(scale)
-        self.selector.SetBrightnessTolerance(4 * scale)
+        self.selector.ScaleTolerances(scale)
         self.renderer.RemoveAllViewProps()
         self.renderer.AddActor(self.lod_actor)
         self.binding.EnabledOn()
@@ -276,29 +275,6 @@ class Scene:
 
 def is_background(img):
     return (img[..., 0] == 0) & (img[..., 1] == 0) & (img[..., 2] == 255)
-
-
-def erode(mask, r):
-    """Binary erosion by a (2r+1)^2 square (outside the image counts as background)."""
-    m = mask.copy()
-    for axis in (0, 1):
-        out = m.copy()
-        for s in range(1, r + 1):
-            for sign in (1, -1):
-                shifted = np.zeros_like(m)
-                if axis == 0:
-                    if sign > 0:
-                        shifted[s:] = m[:-s]
-                    else:
-                        shifted[:-s] = m[s:]
-                else:
-                    if sign > 0:
-                        shifted[:, s:] = m[:, :-s]
-                    else:
-                        shifted[:, :-s] = m[:, s:]
-                out &= shifted
-        m = out
-    return m
 
 
 def exterior(background):
@@ -338,7 +314,7 @@ def hole_split(inner, img, ref_mask=None):
         m = ref_mask.copy()
         while (holes & m).any() and depth < 256:
             depth += 1
-            m = erode(m, 1)
+            m = metrics.erode(m, 1)
     return int(holes.sum()), int(gaps.sum()), depth
 
 
@@ -377,7 +353,7 @@ def measure_views(name, scene, writer, scales=(1.0, 8.0), with_qd=True):
             scene.view(az, dolly)
             ref = scene.render_actor(scene.ref_actor)
             ref_mask = ~is_background(ref)
-            inner = erode(ref_mask, 3)
+            inner = metrics.erode(ref_mask, 3)
             covered = int(ref_mask.sum())
             for scale in scales:
                 img, tris = scene.render_lod(scale)
@@ -425,7 +401,7 @@ def measure_finest(name, scene, writer):
         scene.view(az, DISTANCES['mid'])
         ref = scene.render_actor(scene.ref_actor)
         img = scene.render_data(finest)
-        holes, gaps, _ = hole_split(erode(~is_background(ref), 3), img)
+        holes, gaps, _ = hole_split(metrics.erode(~is_background(ref), 3), img)
         row = dict(model=name, distance='mid', azimuth=az, scale='finest',
                    triangles=finest.GetNumberOfPolys(), psnr=metrics.psnr(lum(ref), lum(img)),
                    holes=holes, gaps=gaps, hole_depth='',

@@ -313,8 +313,7 @@ class Scene:
             s.SetFoveationModeToOff()
         if fovea == 'paper':
             scale = 1.0
-        s.SetContourTolerance(scale)
-        s.SetBrightnessTolerance(4 * scale)
+        s.ScaleTolerances(scale)
         s.SetDistancePixelThreshold(scale)
 
     def set_velocity_constant(self, name, constant):

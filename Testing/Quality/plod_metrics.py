@@ -30,6 +30,29 @@ def luminance(rgb):
     return 0.2126 * rgb[..., 0] + 0.7152 * rgb[..., 1] + 0.0722 * rgb[..., 2]
 
 
+def erode(mask, r):
+    """Binary erosion by a (2r+1)^2 square (outside the image counts as background)."""
+    m = mask.copy()
+    for axis in (0, 1):
+        out = m.copy()
+        for s in range(1, r + 1):
+            for sign in (1, -1):
+                shifted = np.zeros_like(m)
+                if axis == 0:
+                    if sign > 0:
+                        shifted[s:] = m[:-s]
+                    else:
+                        shifted[:-s] = m[s:]
+                else:
+                    if sign > 0:
+                        shifted[:, s:] = m[:, :-s]
+                    else:
+                        shifted[:, :-s] = m[:, s:]
+                out &= shifted
+        m = out
+    return m
+
+
 def psnr(a, b, peak=255.0):
     a = np.asarray(a, dtype=np.float64)
     b = np.asarray(b, dtype=np.float64)

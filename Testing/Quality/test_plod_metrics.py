@@ -37,6 +37,19 @@ class TestMetrics(unittest.TestCase):
         self.assertEqual(m.psnr(self.image, self.image), math.inf)
         self.assertAlmostEqual(m.ssim(self.image, self.image), 1.0, places=12)
 
+    def test_erode_is_a_square_with_background_outside(self):
+        mask = np.zeros((7, 7), dtype=bool)
+        mask[1:6, 1:6] = True
+        want = np.zeros((7, 7), dtype=bool)
+        want[2:5, 2:5] = True
+        np.testing.assert_array_equal(m.erode(mask, 1), want)
+        self.assertEqual(int(m.erode(mask, 2).sum()), 1)
+        self.assertTrue(m.erode(mask, 2)[3, 3])
+        full = np.ones((5, 5), dtype=bool)
+        want = np.zeros((5, 5), dtype=bool)
+        want[1:4, 1:4] = True
+        np.testing.assert_array_equal(m.erode(full, 1), want)
+
     def test_known_noise(self):
         # +-d on alternate pixels: MSE = d^2 exactly, PSNR = 10 log10(255^2 / d^2)
         d = 5.0

@@ -2059,3 +2059,16 @@ TEST(PerceptualLODSelector, ParallelWalkGivesTheSerialCut)
   vtkSMPTools::Initialize(0);
   EXPECT_GT(cases, 300);
 }
+
+// One knob for SRCC's preset: the default tolerances, and T_b = 4 T_s scaled together.
+TEST(PerceptualLODSelector, ScaleTolerancesKeepsBrightnessFourTimesContour)
+{
+  vtkNew<vtkPerceptualLODSelector> selector;
+  EXPECT_EQ(selector->GetContourTolerance(), 1.0);
+  EXPECT_EQ(selector->GetBrightnessTolerance(), 4.0);
+  selector->SetTopologyTolerance(3);
+  selector->ScaleTolerances(2.5);
+  EXPECT_EQ(selector->GetContourTolerance(), 2.5);
+  EXPECT_EQ(selector->GetBrightnessTolerance(), 10.0);
+  EXPECT_EQ(selector->GetTopologyTolerance(), 3.0);
+}

@@ -15,6 +15,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', '..', '..', 'Testing', 'Quality'))
 import plod_faithful as faithful  # noqa: E402
+import plod_metrics as metrics  # noqa: E402
 
 DATA = os.environ.get('PLOD_DATA_DIR', os.path.join(HERE, '..', '..', '..', '..', 'shared', 'data'))
 BUNNY = os.path.join(DATA, 'bun_zipper.ply')
@@ -34,7 +35,7 @@ class FaithfulBunny(unittest.TestCase):
         for az in AZIMUTHS:
             s.view(az, dolly)
             ref = s.render_actor(s.ref_actor)
-            inner = faithful.erode(~faithful.is_background(ref), 3)
+            inner = metrics.erode(~faithful.is_background(ref), 3)
             img, tris = s.render_lod(1.0)
             self.assertGreater(tris, 0)
             holes.append(faithful.hole_split(inner, img)[0])
