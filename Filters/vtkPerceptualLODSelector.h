@@ -32,13 +32,14 @@
  * Topology: a cell whose sub-mesh is not a union of discs (a tube, a handle: collapsing it
  * would drop its triangles and open a see-through gap) is refined, whatever its errors, while
  * the part it could lose (its Thickness) projects to more than TopologyTolerance pixels.
- * Open rims: a cell holding a boundary point of an open surface is tested like a contour cell
- * (its shape error decides), since its outline is seen from every side.
- * Size floor (every mode but Distance): a cell whose edge projects to at most ContourTolerance
- * pixels is accepted, since its points then lie within about that many pixels of its vertex
- * on the screen (the vertex is clamped to the cell); without it, brightness and contour tests kept
- * refining sub-pixel cells (measured: far views drew several triangles per covered pixel). See
- * plodSelector.h for the formulas as implemented.
+ * Open rims: a cell holding a boundary point of an open surface is refined until its edge passes
+ * the size floor (its shape error is not used), since its outline is seen from every side.
+ * Size floor (every mode but Distance and Cheng's; in SRCC not for the cells tested for
+ * brightness only, whose parent passed its contour test): a cell whose edge projects to at most
+ * ContourTolerance pixels is accepted, since its points then lie within about that many pixels of
+ * its vertex on the screen (the vertex is clamped to the cell); without it, brightness and contour
+ * tests kept refining sub-pixel cells (measured: far views drew several triangles per covered
+ * pixel). See plodSelector.h for the formulas as implemented.
  *
  * Units: ContourTolerance in pixels (default 1). BrightnessTolerance in brightness x pixels,
  * brightness being reflectance x luminance-weighted light intensity in [0, 1] (default 4: a
@@ -64,11 +65,12 @@
  *   per FrameInterval at the distance of the root's centre (the centre alone would not move
  *   when the camera orbits about it); what the factor scales is the
  *   VelocityCriterion (by default velocity alone, as in TMM §5.3);
- * - foveation: with every error model but Cheng, the tolerances are multiplied by
- *   exp(FoveationRate D) (this project's use of Cheng's distance with SRCC: the fovea keeps the
- *   base tolerances); Object mode measures D about a vertical axis from FoveationPoint
- *   (D = w_h beta / pi + w_v |Y - F_y| / H, H the root edge), Screen mode as the angle between
- *   the view ray and GazeDirection, over pi.
+ * - foveation: in every mode but Cheng's test (IPV and DPV by velocity alone replace every
+ *   error model, Cheng's included, and their size tolerance is multiplied too), the tolerances are
+ * multiplied by exp(FoveationRate D) (this project's use of Cheng's distance with SRCC: the fovea
+ * keeps the base tolerances); Object mode measures D about a vertical axis from FoveationPoint (D =
+ * w_h beta / pi + w_v |Y - F_y| / H, H the root edge), Screen mode as the angle between the view
+ * ray and GazeDirection, over pi.
  * - material: with the octree's DiffuseRange and SpecularRange, each light adds
  *   L (M_max c_max - M_min c_min) to the brightness change (TMM eq. 8-9), else the constant
  *   DiffuseReflectance and SpecularReflectance.
@@ -244,8 +246,9 @@ public:
 
   ///@{
   /// Tolerances: contour T_s in pixels (default 1), brightness T_b (default 4), see above;
-  /// topology: cells that are not topologically safe are refined while their edge projects to
-  /// more than this many pixels (default 1; a huge value turns the rule off).
+  /// topology: cells that are not topologically safe are refined while their thickness (the
+  /// part collapsing them could make vanish) projects to more than this many pixels (default 1;
+  /// a huge value turns the rule off).
   vtkSetMacro(ContourTolerance, double);
   vtkGetMacro(ContourTolerance, double);
   vtkSetMacro(BrightnessTolerance, double);

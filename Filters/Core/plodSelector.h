@@ -14,10 +14,11 @@
  * 1. Frustum: a cell whose box is wholly outside one plane is hidden (in the cut, not drawn)
  *    and not refined.
  * 2. Contour, with `c = n.v_e` and `s = sin(theta)` (no trigonometry per node):
- *    (a) `c > s` (gamma < pi/2 - theta): front-facing: go to 3;
- *    (b) `c < -s` (gamma > pi/2 + theta): back-facing: hidden, not refined;
- *    (c) otherwise on the contour: accept if `max(0, dE - |n.v_f|) k <= T_s`, then go to 3;
- *        else refine, each child through 1-3.
+ *    (a) `cos(theta) > 0` and `c > s` (gamma < pi/2 - theta): front-facing: go to 3;
+ *    (b) `cos(theta) > 0` and `c < -s` (gamma > pi/2 + theta): back-facing: hidden, not
+ *        refined;
+ *    (c) otherwise on the contour (a cone wider than pi/2 always is): accept if
+ *        `max(0, dE - |n.v_f|) k <= T_s`, then go to 3; else refine, each child through 1-3.
  * 3. Brightness: `dB = M_d sum L_d dC_alpha + M_s sum L_s dC_beta` (eq. 8) with
  *    `dC = c(max(0, a - theta)) - c(min(pi, a + theta))`, `c(x) = max(0, cos x)` (raised to the
  *    specular power for dC_beta, with the half vector), at most 1 (a rendered pixel saturates:
@@ -27,10 +28,11 @@
  *    own input points and triangles (a leaf that passes is drawn at its representative vertex).
  * A tolerance of 0 accepts nothing, even a cell whose error is exactly 0 (an unlit or flat
  * cell), so that zero tolerances give the full-resolution cut: the input itself.
- * Size floor (every mode but Distance, after the frustum and back-face tests): a cell whose
- * edge projects to at most T_s pixels is accepted. Its points lie within about that many pixels
- * of its vertex, so refining it cannot change the image by more than the tolerance. Without it,
- * wide cones (noisy scans) put almost every cell "on the contour", where a shape error that
+ * Size floor (every mode but Distance and Cheng's test, after the frustum and back-face tests;
+ * in SRCC not for the cells tested for brightness only, whose parent passed its contour test): a
+ * cell whose edge projects to at most T_s pixels is accepted. Its points lie within about that many
+ * pixels of its vertex, so refining it cannot change the image by more than the tolerance. Without
+ * it, wide cones (noisy scans) put almost every cell "on the contour", where a shape error that
  * spans up to the cell's diagonal drove cells below a pixel: 3.4 triangles per covered pixel
  * on Lucy seen from afar.
  * Topology: a cell whose sub-mesh is not a union of discs (no NodeTopologySafe flag: a tube, a
@@ -63,7 +65,9 @@
  * incorporates the criterion of velocity and thereby ignores contours and shading") every cell
  * is refined until its edge projects within `T_s` times the factor; ScalesErrorModel multiplies
  * both tolerances of the error model instead. Foveation with the other modes multiplies the
- * tolerances by `exp(K D)` (this project's combination of Cheng's D with SRCC).
+ * tolerances by `exp(K D)` (this project's combination of Cheng's D with SRCC); IPV and DPV by
+ * velocity alone replace every error model, Cheng's included, so there the size test's
+ * tolerance is multiplied too.
  * Frustum culling and the eye-inside rule apply in every mode; the topology rule (tubes) in every
  * mode but Cheng's.
  * Minimum level (distributed rendering): a cell coarser than SelectionInput::MinimumLevel is
@@ -80,14 +84,15 @@
  * ROAM, refine the same way), with the tolerances as a floor:
  * - A cell the walk would accept, hide or cull is handled exactly as above: the budget never
  *   refines a cell the tolerances accept. A cell the walk would refine waits in a max-heap,
- *   keyed by its priority, how far its error exceeds its tolerance: SRCC, the larger of
- *   contour error / T_s and brightness error / T_b (TMM's motion reductions in the errors,
- *   IPV/DPV's and foveation's factors in T_s and T_b, as in the walk; a rim's contour error is
- *   its projected edge, h k); SCVC and PSEC, the shape error over their (PSEC: feature)
- *   tolerance; Distance, the cell's edge over the chosen level's, 2^(level chosen - level);
- *   velocity alone, the projected edge over T_s; Cheng, the normal deviation 2 sin^2(theta)
- *   over the allowed one, 1 - exp(-K D) (infinite at the fovea). A cell that is not
- *   topologically safe (refined for its topology), or under a zero tolerance, is infinitely
+ *   keyed by its priority, how far its error exceeds its tolerance: SRCC, for a cell refined
+ *   for its contour (or its rim), the larger of contour error / T_s and brightness error / T_b,
+ *   for a cell refined for its brightness, brightness error / T_b (TMM's motion reductions in the
+ * errors, IPV/DPV's and foveation's factors in T_s and T_b, as in the walk; a rim's contour error
+ * is its projected edge, h k); SCVC and PSEC, the shape error over their (PSEC: feature) tolerance;
+ * Distance, the cell's edge over the chosen level's, 2^(level chosen - level); velocity alone, the
+ * projected edge over T_s; Cheng, the normal deviation 1 - cos(min(pi, 2 theta)) (2 sin^2(theta) up
+ * to theta = pi/2, then 2) over the allowed one, 1 - exp(-K D) (infinite at the fovea). A cell that
+ * is not topologically safe (refined for its topology), or under a zero tolerance, is infinitely
  *   over: it goes first among the keys it can have (below).
  * - Monotone keys: a cell's key is its priority, but at most the key of the refinement that
  *   reached it (ROAM's monotone priorities). The queue then yields keys in non-increasing order.

@@ -872,6 +872,13 @@ TEST(SelectorExact, BudgetPriorityOfTheBaselines)
   const double D = std::atan(0.05) / Pi;
   const double sinA = double(std::sin(0.7f));
   EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 2 * sinA * sinA / (1 - std::exp(-100 * D)), 1e-5);
+  // a cone wider than pi/2: its largest deviation is 1 - cos(pi) = 2, not 2 sin^2 theta (which
+  // would fall back towards 0 as theta nears pi and make the widest cells wait last)
+  s.T.Angle[0] = 2.0f; // the root too, so that its key does not cap A's
+  s.T.Angle[1] = 2.0f;
+  r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_NEAR(r.Stats.BudgetRefusedPriority, 2.0 / (1 - std::exp(-100 * D)), 1e-5);
 }
 
 TEST(SelectorExact, BudgetPriorityOfVelocityAlonePSECFeaturesAndRims)
