@@ -38,8 +38,8 @@
  *    error by eq. (3) over the points inside; material min/max;
  * 3. a topology flag: the cell's sub-mesh is a union of discs (Euler characteristic).
  * See Filters/Core/plodOctreeBuilder.h for why this surface and not the dual contouring of
- * edge crossings the first version used (which capped the finest level at 29-32 dB PSNR and
- * opened holes in thin parts).
+ * edge crossings the first version used (which never reached the input's picture and opened
+ * holes in thin parts).
  *
  * Default finest level (FinestLevel = -1): for meshes, the shallowest level whose occupied cells
  * number at least a quarter of the distinct input points (leaves hold about four points); for

@@ -38,8 +38,8 @@
  * brightness only, whose parent passed its contour test): a cell whose edge projects to at most
  * ContourTolerance pixels is accepted, since its points then lie within about that many pixels of
  * its vertex on the screen (the vertex is clamped to the cell); without it, brightness and contour
- * tests kept refining sub-pixel cells (measured: far views drew several triangles per covered
- * pixel). See plodSelector.h for the formulas as implemented.
+ * tests kept refining sub-pixel cells, so that far views drew several triangles per covered
+ * pixel. See plodSelector.h for the formulas as implemented.
  *
  * Units: ContourTolerance in pixels (default 1). BrightnessTolerance in brightness x pixels,
  * brightness being reflectance x luminance-weighted light intensity in [0, 1] (default 4: a
@@ -226,8 +226,8 @@ public:
    * GetNumberOfBoundaryEdges() and GetNumberOfMisorientedEdges() both 0: through a triangle
    * facing the other way a closed surface would show a hole), else draws them at the level where
    * they are found (still not refined). SetHideBackFaces(bool) chooses HIDDEN or DRAWN.
-   * Measured: on the merged bunny scans hiding lost 7 dB; on the bunny mesh it left up to 36
-   * background pixels inside the silhouette (its open base), drawing costs 12 % more triangles.
+   * Hiding them on an open or inconsistently oriented surface opens see-through holes; drawing
+   * them on a closed one costs triangles for nothing (docs/results/analysis.md).
    */
   vtkSetClampMacro(BackFaceMode, int, BACK_FACES_AUTOMATIC, BACK_FACES_DRAWN);
   vtkGetMacro(BackFaceMode, int);
@@ -321,10 +321,9 @@ public:
    * What the triangle budget does with a refinement that does not fit in the room left.
    * BUDGET_SKIP_MISFITS (default) leaves it unrefined and goes on with the next ones, so the
    * budget fills; BUDGET_STOP_AT_FIRST_MISFIT ends the walk there, so that a larger budget always
-   * refines a superset of what a smaller one refines. Measured (docs/results/budget.md): skipping
-   * is within 0.02 dB of stopping or better, by up to 0.6 dB, fills 99.4-100 % of the budget
-   * against 94.6-100 %, and costs 0-6 % more selection time. Both are the tolerance cut when it
-   * fits. See plodSelector.h.
+   * refines a superset of what a smaller one refines. Skipping fills the budget more fully and is
+   * never measurably worse at equal budget (docs/results/budget.md). Both are the tolerance cut
+   * when it fits. See plodSelector.h.
    */
   vtkSetClampMacro(BudgetStopRule, int, BUDGET_STOP_AT_FIRST_MISFIT, BUDGET_SKIP_MISFITS);
   vtkGetMacro(BudgetStopRule, int);
@@ -344,8 +343,9 @@ public:
    * cut then passes the tests at the current view, as in the full walk, but a coarser ancestor
    * that would now pass is found only level by level, so the cut can hold more cells than the
    * full walk's. Only without a triangle budget; the first execution (and the one after the
-   * octree or the budget changes) is a full walk. Measured against the full walk in
-   * docs/benchmarks.md ("Incremental selection"); see plodSelector.h for the rules.
+   * octree or the budget changes) is a full walk. It is compared with the full walk in
+   * docs/benchmarks.md ("Selection speed and incremental selection"); see plodSelector.h for the
+   * rules.
    */
   vtkSetMacro(IncrementalSelection, bool);
   vtkGetMacro(IncrementalSelection, bool);

@@ -8,10 +8,11 @@
  * Every octree cell stands for the input points inside it. A cut draws the input's triangles
  * with each corner moved to the representative vertex of the cut cell that holds it; triangles
  * whose corners fall into fewer than three cells vanish. Its properties, each measured or proved
- * against the dual contouring of edge crossings (Ju et al. 2002) that this project used first:
+ * against the dual contouring of edge crossings (Ju et al. 2002) that this project used first
+ * (docs/results/surface.md):
  * - the finest cut (every leaf opened) *is* the input: its triangles, points and shading
- *   normals. Dual contouring resampled the surface on the grid and stayed at 29-32 dB PSNR
- *   against the input at any depth, with 2.7 times the input's triangles;
+ *   normals. Dual contouring resampled the surface on the grid and never reached the input's
+ *   picture at any depth, with more triangles than the input;
  * - no crack at any cut: triangles share corners exactly as the input's do, so a cut maps a
  *   closed, consistently oriented input to a closed, consistently oriented set of triangles
  *   (every edge used as often in each direction);
@@ -99,8 +100,8 @@ enum class VertexRule
   Mean = 0,
   /// Minimiser of the sum of the plane quadrics of the triangles at the cell's points
   /// (Lindstrom 2000), solved by a truncated eigen-decomposition about the mean point and
-  /// clamped to the cell. The default: +1.0 to +1.5 dB over the mean rule at equal triangles
-  /// (trade curves of five models, docs/results/faithful.md).
+  /// clamped to the cell. The default: better pictures than the mean rule at equal triangles
+  /// on every model measured (docs/results/faithful.md).
   QEF = 1
 };
 

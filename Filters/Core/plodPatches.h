@@ -19,18 +19,17 @@
  * Folds: clustering turns a few triangles over (their face normal then opposes the normals of
  * all three corners; at least one corner a representative vertex, input triangles never are).
  * Drawn as they are, two-sided lighting shades them from behind, as dark specks in the middle
- * of lit surfaces (measured on the bunny: 0.8 % of the drawn triangles, 0.8 dB). Dropped, they
- * leave see-through slits where nothing lies behind them (measured at tolerances x8: 23 to 40
- * enclosed background pixels in a view of Lucy). The default draws each on three corners of its
- * own, at the same places, with the corners' normals reversed: lit as the surface facing the
- * viewer, covering what it covers (measured: the PSNR of dropping, the gaps of keeping, i.e.
- * none). Those own corners are the one exception to the closure property below, which holds
- * with FoldHandling::Keep; geometrically nothing opens.
+ * of lit surfaces. Dropped, they leave see-through slits where nothing lies behind them. The
+ * default draws each on three corners of its own, at the same places, with the corners' normals
+ * reversed: lit as the surface facing the viewer, covering what it covers: the picture of
+ * dropping them without the slits (docs/results/surface.md). Those own corners are the one
+ * exception to the closure property below, which holds with FoldHandling::Keep; geometrically
+ * nothing opens.
  *
  * Back faces: when the selector hid back-facing cells (a closed surface seen from outside), it
  * passes the eye along; then every drawn triangle that faces away from the eye is skipped too.
  * Cells near the contour hold both sides of the surface, and on a detailed scan they are most
- * of the cut: measured, 40 to 47 % of the triangles drawn faced away. Seen from outside, a
+ * of the cut, so a large share of the triangles of such cells face away. Seen from outside, a
  * closed surface only ever shows front faces (the first surface a ray meets is entered), so
  * nothing visible is lost.
  *

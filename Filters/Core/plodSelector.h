@@ -96,11 +96,10 @@
  *   over: it goes first among the keys it can have (below).
  * - Monotone keys: a cell's key is its priority, but at most the key of the refinement that
  *   reached it (ROAM's monotone priorities). The queue then yields keys in non-increasing order.
- *   Without it (measured on the generated models of the tests), a larger budget left a larger
- *   key in the cut in the foveated modes, Cheng's above all: a child nearer the gaze exceeds its
- *   tolerance by more than its parent. Equal keys go to the larger own priority, then to the
- *   smaller node index (the coarser cell: nodes are stored level by level). Keys are compared
- *   in single precision.
+ *   Without it, a larger budget could leave a larger key in the cut in the foveated modes, Cheng's
+ * above all: a child nearer the gaze exceeds its tolerance by more than its parent. Equal keys go
+ * to the larger own priority, then to the smaller node index (the coarser cell: nodes are stored
+ * level by level). Keys are compared in single precision.
  * - Stop rule (SelectionInput::BudgetStop): the top refinement is made if the triangles it adds
  *   fit. When it does not fit (a misfit):
  *   StopAtFirstMisfit ends the walk there. The pops are then the same for every budget up to
@@ -122,17 +121,10 @@
  *   non-increasing order: whatever is pushed after it is reached from a smaller key), and it is
  *   non-increasing as the budget grows (SelectionStats::BudgetRefusedPriority). The cells left
  *   unrefined are drawn at their vertex, reason BudgetLimited.
- *   Why SkipMisfits is the default, measured (docs/results/budget.md: the bunny, Lucy and a UV
- *   sphere, 28 budgets each; the benchmark below): it is never worse by more than 0.02 dB PSNR
- *   at equal budget and up to 0.6 dB better (on Lucy, where the refinements that add no
- *   triangle, made after the room is spent, refine the vertices at no cost in triangles; up to
- *   0.5 dB on the sphere's smallest budgets, where single refinements are large). It fills
- *   99.4-100 % of the budget against 94.6-100 % for the stop rule, and costs 0-6 % more CPU per
- *   selection on the benchmark. The nesting it gives up was measured too: raising the budget
- *   11 % at a time over 29 steps, it coarsened 2-10 cells in all, against thousands of cut
- *   changes. (The 43-76 % fill first reported for the sphere was not the stop rule's: it
- *   compared the triangles drawn with a budget counted in triangles owned, back-facing ones
- *   included; both rules fill the budget in its own unit.)
+ *   SkipMisfits is the default because at equal budget it is never measurably worse and often
+ *   better (the refinements that add no triangle, made after the room is spent, refine
+ *   vertices for free), fills the budget more fully and costs little more CPU; the nesting it
+ *   gives up changes very few cells (docs/results/budget.md, docs/benchmarks.md).
  * - The count: a cut draws the triangles owned by its refined nodes and opened leaves
  *   (plodOctree.h, plodPatches.h), so refining node n adds TriangleEnd(n) - FirstTriangle[n]
  *   and opening a leaf its own. The root alone counts 0 (it is one point). The walk keeps that
@@ -145,20 +137,12 @@
  * - When the tolerance cut fits (its count is at most the budget), the budget walk refines the
  *   same cells, so its cut is the tolerance cut, node for node, states, reasons and cull masks.
  *
- * Cost, measured (Testing/Benchmarks/BenchmarkSelector.cxx, BM_SelectBudget and
- * BM_SelectBisection beside BM_Select: the generated 1M-triangle model filling 1920 x 1080, SRCC
- * at T_s = 0.25 px, medians of 5 on the 2-core machine): the queue walk visits 12.0M nodes/s
- * against 16.3M for the depth-first walk (the heap's pops and the lost memory locality of the
- * order; computing the priorities is about a quarter of the difference), so a budget that is
- * not binding costs 1.35 times the tolerance walk (1.55 against 1.15 ms). The alternative
- * scales both tolerances by one factor found by bisection, from the previous frame's factor,
- * a full walk per step. For a budget of 25 % of the tolerance cut (7,858 triangles) one queue
- * walk takes 0.41 ms (4,943 nodes) and fills 99.97 % of the budget (StopAtFirstMisfit;
- * SkipMisfits fills 100 % for 0-6 % more CPU time); 5 bisection walks take
- * 1.52 ms and fill 98.3 %, 7 walks 2.09 ms and 99.4 % (about 5,200 nodes and 0.30 ms each).
- * At T_s = 1 px: 0.12 ms against 0.52 and 0.72 ms. The queue wins as soon as the bisection
- * needs more than 1.4 walks a frame, and its cut follows the order of the errors rather than
- * one scale for every tolerance.
+ * Cost: the queue walk visits fewer nodes per second than the depth-first walk (the heap's pops
+ * and the lost memory locality), so a budget that does not bind costs somewhat more than the
+ * tolerance walk; a binding one visits far fewer nodes. The alternative, scaling both
+ * tolerances by one factor found by bisection (a full walk per step), costs more as soon as it
+ * needs more than about one and a half walks a frame, and its cut follows one scale for every
+ * tolerance rather than the order of the errors (docs/benchmarks.md, "Triangle budget").
  *
  * Incremental selection (SelectionInput::Incremental, after Hoppe 1997 and Luebke & Erikson
  * 1997, who update the previous frame's front instead of walking from the root):
@@ -172,17 +156,15 @@
  * So every cell of the cut passes its tests at the current view (Refines() is false for it,
  * true for an opened leaf) and every parent of kept cells would still be refined. What it does
  * not find is a coarser ancestor further up that would now pass: the full walk's cut may be
- * coarser (measured: within 4 % of its triangles over the benchmark's orbit and zoom), and it
- * can also be finer, since the full walk tests a cell below a contour-accepted parent for
- * brightness only. The count (BudgetTriangles) is kept exactly. Without a previous tolerance cut
- * (first frame, new octree, a budget) the full walk runs, and records its cut as the front.
- * Measured (BenchmarkSelector, BM_SelectIncremental, docs/benchmarks.md): it is slower than the
- * full walk on these octrees, 1.05 to 2.1 times per frame at about the same number of cells
- * judged. A full walk judges the cut and the refined cells above it; with about four children
- * per refined cell the latter are a third of the former, and the incremental walk judges every
- * cell of the cut and most of the parents of kept cells again, so it saves few judgements and
- * pays for its bookkeeping (the parent and mark lookups, all six frustum planes at every cell
- * of the front). It stays an option, off by default.
+ * coarser, and it can also be finer, since the full walk tests a cell below a contour-accepted
+ * parent for brightness only. The count (BudgetTriangles) is kept exactly. Without a previous
+ * tolerance cut (first frame, new octree, a budget) the full walk runs, and records its cut as
+ * the front. On this project's octrees it is slower than the full walk per frame
+ * (docs/benchmarks.md, "Selection speed and incremental selection"): a full walk judges the cut
+ * and the refined cells above it, about a third as many with four children per refined cell,
+ * while the incremental walk judges every cell of the cut and most parents of kept cells again,
+ * so it saves few judgements and pays for its bookkeeping (parent and mark lookups, all six
+ * frustum planes at every cell of the front). It stays an option, off by default.
  */
 #ifndef plodSelector_h
 #define plodSelector_h
