@@ -667,7 +667,10 @@ int vtkMultiscaleOctreeBuilder::BuildFromFile(vtkMultiscaleOctree* output)
     this->UpdateProgress(ReadShare * f);
     return !this->GetAbortExecute();
   };
-  if (!plod::ReadPLYMesh(file, &mesh, &why, readProgress))
+  // the triangles may outgrow the header's one per face (polygons): bounded by what is left
+  // once the build's least share is set aside
+  const double buildLeast = least - meshBytes;
+  if (!plod::ReadPLYMesh(file, &mesh, &why, readProgress, limit - buildLeast))
   {
     if (this->GetAbortExecute())
     {
@@ -675,6 +678,12 @@ int vtkMultiscaleOctreeBuilder::BuildFromFile(vtkMultiscaleOctree* output)
       return 1;
     }
     vtkErrorMacro("Cannot read '" << file << "': " << why << ". Empty octree.");
+    return 1;
+  }
+  if (mesh.NumberOfPoints != header.NumberOfVertices || mesh.NumberOfFaces != header.NumberOfFaces)
+  {
+    vtkErrorMacro("'" << file << "' changed while it was read (its counts are no longer those of "
+                      << "the header the memory estimate used). Empty octree.");
     return 1;
   }
   if (mesh.NumberOfShortFaces > 0)
@@ -710,7 +719,14 @@ int vtkMultiscaleOctreeBuilder::BuildFromFile(vtkMultiscaleOctree* output)
     this->UpdateProgress(ReadShare + (1.0 - ReadShare) * f);
     return !this->GetAbortExecute();
   };
-  return this->RunBuild(in, false, std::max(0.0, limit - held), buildProgress, output);
+  if (held >= limit)
+  {
+    vtkErrorMacro(<< "'" << file << "': its arrays take " << std::llround(held / MiB)
+                  << " MiB, the whole memory limit of " << std::llround(limit / MiB)
+                  << " MiB, leaving nothing for the build. Empty octree.");
+    return 1;
+  }
+  return this->RunBuild(in, false, limit - held, buildProgress, output);
 }
 
 //------------------------------------------------------------------------------

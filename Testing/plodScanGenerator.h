@@ -100,6 +100,9 @@ struct ScanCounts
   int64_t Bytes = 0;
 };
 
+/// The largest n: a base triangle's inner points and its grid of ids are held at once.
+constexpr int MaxScanSplit = 4096;
+
 namespace scan
 {
 inline uint64_t Mix(uint64_t x)
@@ -159,6 +162,12 @@ inline bool GenerateScanPLY(const BaseMesh& base, int n, uint64_t seed, const st
   const int64_t V = static_cast<int64_t>(base.Points.size() / 3);
   const int64_t T = static_cast<int64_t>(base.Triangles.size() / 3);
   n = std::max(1, n);
+  if (n > MaxScanSplit)
+  {
+    *why = "a split of " + std::to_string(n) + " x " + std::to_string(n) + " per triangle is " +
+      "more than " + std::to_string(MaxScanSplit) + " (a base triangle's points are held at once)";
+    return false;
+  }
 
   // edges: (min id, max id) sorted; a triangle's edge is found by binary search
   std::vector<uint64_t> edges;
@@ -303,6 +312,10 @@ inline bool GenerateScanPLY(const BaseMesh& base, int n, uint64_t seed, const st
   const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
   auto emitBlocks = [&](int64_t count, int64_t pointsPerItem,
                       const std::function<void(int64_t item, float* out)>& make) {
+    if (pointsPerItem <= 0)
+    {
+      return; // nothing to place (edges when n = 1, inner points when n <= 2)
+    }
     const int64_t block =
       std::max<int64_t>(1, (int64_t(1) << 20) / std::max<int64_t>(1, pointsPerItem));
     std::vector<float> xyz;

@@ -619,23 +619,27 @@ private:
       " bytes)");
   }
 
-  /// Header only: a binary body must hold at least the header's rows at their smallest (each
-  /// list empty), so a header that claims more rows than the file can hold fails at once.
+  /// Header only: the body must hold at least the header's rows at their smallest (each list
+  /// empty; in ASCII each value one character and a separator), so a header that claims more
+  /// rows than the file can hold fails at once.
   bool CheckBodyAtLeastFixedRows()
   {
-    if (this->Summary->Format == PLYFormat::ASCII)
-    {
-      return true;
-    }
+    // binary: each value its type's size, a list its count; ASCII: each value (a list, its
+    // count) at least one character and a separator or newline
+    const bool ascii = this->Summary->Format == PLYFormat::ASCII;
     int64_t least = 0;
     for (const PLYElement& e : this->Summary->Elements)
     {
       int64_t row = 0;
       for (const PLYProperty& p : e.Properties)
       {
-        row += Info(p.IsList ? p.CountType : p.Type).Size;
+        row += ascii ? 2 : Info(p.IsList ? p.CountType : p.Type).Size;
       }
       least += e.Count * row;
+    }
+    if (ascii && least > 0)
+    {
+      --least; // the last row may end the file without a newline
     }
     if (least > this->In.Left())
     {

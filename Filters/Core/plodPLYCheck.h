@@ -164,8 +164,9 @@ bool CheckPLYFile(const std::string& path, std::string* why, PLYSummary* summary
 /**
  * Reads only the header of the PLY file at `path` (steps 1 to 3 above, without the body), in
  * time independent of the file's size: what a caller needs to decide before reading the rows
- * (counts, types, whether normals are there). A binary body shorter than the header's rows at
- * their smallest (every list empty) fails here already. `summary` gets everything but the
+ * (counts, types, whether normals are there). A body shorter than the header's rows at their
+ * smallest (every list empty; in ASCII, every value one character and a separator) fails here
+ * already. `summary` gets everything but the
  * body's findings (MaxFaceSize, short faces, TrailingBytes and Warning stay empty).
  */
 bool ReadPLYHeader(const std::string& path, std::string* why, PLYSummary* summary);

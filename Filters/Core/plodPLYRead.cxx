@@ -4,6 +4,8 @@
 #include "plodPLYIO.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <new>
 
 namespace plod
@@ -39,8 +41,10 @@ int FindProperty(const PLYElement& e, const char* name)
 class MeshReader
 {
 public:
-  MeshReader(const PLYSummary& header, PLYMesh* mesh, std::string* why, const PLYProgress& progress)
-    : Header(header)
+  MeshReader(const PLYSummary& header, PLYMesh* mesh, std::string* why, const PLYProgress& progress,
+    double maxBytes)
+    : MaxBytes(maxBytes)
+    , Header(header)
     , Mesh(mesh)
     , Why(why)
     , Progress(progress)
@@ -109,12 +113,17 @@ private:
       c = this->In.Peek();
     }
     this->Word.clear();
+    this->WordTooLong = false;
     while (c >= 0 && c != '\n' && !IsBlank(c))
     {
       const int k = this->In.Get();
-      if (this->Word.size() < MaxWord) // a longer word is no number: kept cut, it fails to parse
+      if (this->Word.size() < MaxWord)
       {
         this->Word.push_back(static_cast<char>(k));
+      }
+      else
+      {
+        this->WordTooLong = true; // no number is that long: refused, not read cut
       }
       c = this->In.Peek();
     }
@@ -144,6 +153,11 @@ private:
       if (!this->Token())
       {
         return this->Fail(Where(e, row) + ": property '" + p.Name + "' has no value");
+      }
+      if (this->WordTooLong)
+      {
+        return this->Fail(Where(e, row) + ": property '" + p.Name + "' has a value longer than " +
+          std::to_string(MaxWord) + " characters");
       }
       const char* b = this->Word.data();
       const char* end = b + this->Word.size();
@@ -389,6 +403,15 @@ private:
           return this->Fail("the file ends inside " + Where(e, row) + ": its list of " +
             std::to_string(n) + " indices");
         }
+        // a face of n corners adds n - 2 triangles: within the memory the caller allows
+        const double grows = 12.0 * double(std::max<int64_t>(0, n - 2)) + 4.0 * double(n);
+        if (this->MaxBytes > 0 &&
+          this->HeldBytes() + 4.0 * double(m.Triangles.size()) + grows > this->MaxBytes)
+        {
+          return this->Fail(Where(e, row) + ": its face of " + std::to_string(n) +
+            " corners takes the triangles beyond the memory limit of " +
+            std::to_string(static_cast<long long>(this->MaxBytes)) + " bytes");
+        }
         corners.clear();
         for (int64_t c = 0; c < n; ++c)
         {
@@ -396,11 +419,12 @@ private:
           {
             return false;
           }
-          if (!(v >= 0 && v < double(points)))
+          if (!(v >= 0 && v < double(points)) || v != std::floor(v))
           {
-            return this->Fail(Where(e, row) + ": vertex index " +
-              std::to_string(static_cast<int64_t>(v)) + " is outside [0, " +
-              std::to_string(points) + ")");
+            char text[40];
+            std::snprintf(text, sizeof(text), "%.17g", v);
+            return this->Fail(Where(e, row) + ": vertex index " + text +
+              " is not a whole number in [0, " + std::to_string(points) + ")");
           }
           corners.push_back(static_cast<int32_t>(v));
         }
@@ -435,6 +459,15 @@ private:
     }
   }
 
+  /// Bytes of the points and normals (the triangles grow as faces are read).
+  double HeldBytes() const
+  {
+    const PLYMesh& m = *this->Mesh;
+    return 4.0 * double(m.PointsFloat.size() + m.Normals.size()) +
+      8.0 * double(m.PointsDouble.size());
+  }
+
+  const double MaxBytes;
   const PLYSummary& Header;
   PLYMesh* Mesh;
   std::string* Why;
@@ -443,6 +476,7 @@ private:
   const bool Swap;
   Input In;
   std::string Word;
+  bool WordTooLong = false;
 };
 
 } // namespace
@@ -484,8 +518,8 @@ double EstimatePLYMeshBytes(const PLYSummary& header)
 }
 
 //------------------------------------------------------------------------------
-bool ReadPLYMesh(
-  const std::string& path, PLYMesh* mesh, std::string* why, const PLYProgress& progress)
+bool ReadPLYMesh(const std::string& path, PLYMesh* mesh, std::string* why,
+  const PLYProgress& progress, double maxBytes)
 {
   std::string message;
   PLYMesh local;
@@ -503,7 +537,7 @@ bool ReadPLYMesh(
     }
     if (ok)
     {
-      MeshReader reader(header, &m, &message, progress);
+      MeshReader reader(header, &m, &message, progress, maxBytes);
       ok = reader.Run(path);
     }
   }

@@ -66,10 +66,12 @@ using PLYProgress = std::function<bool(double)>;
  * Reads the PLY mesh at `path` into `mesh` (replacing what it held). Returns false with the
  * reason in `why` (one line, may be null) on a file that cannot be read, a header without a
  * vertex element, a body that does not match its header, an abort from `progress`, or too
- * little memory; `mesh` is then empty. Never throws.
+ * little memory; `mesh` is then empty. `maxBytes` > 0 bounds the arrays: a file whose faces
+ * split into more triangles than that holds (one face of many corners can) is refused before
+ * they are made. Never throws.
  */
-bool ReadPLYMesh(
-  const std::string& path, PLYMesh* mesh, std::string* why, const PLYProgress& progress = nullptr);
+bool ReadPLYMesh(const std::string& path, PLYMesh* mesh, std::string* why,
+  const PLYProgress& progress = nullptr, double maxBytes = 0);
 
 } // namespace plod
 

@@ -34,7 +34,8 @@ public:
     , Rank(c.Rank())
     , Ranks(c.Ranks())
     , K(p.OwnershipLevel)
-    , CellCount(int64_t(1) << (3 * p.OwnershipLevel))
+    , CellCount(
+        p.OwnershipLevel >= 1 && p.OwnershipLevel <= 6 ? int64_t(1) << (3 * p.OwnershipLevel) : 0)
   {
   }
 

@@ -287,6 +287,55 @@ TEST_F(PLYRead, HeaderAloneRefusesAShortBinaryBody)
   EXPECT_EQ(plod::EstimatePLYMeshBytes(header), 4 * 12 + 4 * 12);
 }
 
+// What the header and the memory limit cannot see is refused as it is read: faces that split into
+// more triangles than the limit holds, ASCII headers that claim more rows than the file holds,
+// values too long to be numbers, and vertex indices that are not whole numbers.
+TEST_F(PLYRead, HostileFacesHeadersAndValues)
+{
+  plodtest::TetraPLY t;
+  t.Encoding = plodtest::PLYEncoding::Little;
+  t.CountType = "ushort";
+  std::vector<int64_t> big(3000, 0);
+  for (size_t i = 0; i < big.size(); ++i)
+    big[i] = static_cast<int64_t>(i % 4);
+  t.Faces[0] = big;
+  const std::string fan = this->Write("fan", t.Bytes());
+  plod::PLYMesh m;
+  std::string why;
+  EXPECT_FALSE(plod::ReadPLYMesh(fan, &m, &why, nullptr, 10000));
+  EXPECT_NE(why.find("beyond the memory limit"), std::string::npos) << why;
+  EXPECT_TRUE(m.Triangles.empty());
+  ASSERT_TRUE(plod::ReadPLYMesh(fan, &m, &why, nullptr, 1e6)) << why;
+  EXPECT_EQ(m.NumberOfTriangles(), 2998 + 3);
+
+  plodtest::TetraPLY lying;
+  lying.DeclaredVertices = 1000000; // ASCII: the body cannot hold a million rows
+  plod::PLYSummary header;
+  EXPECT_FALSE(plod::ReadPLYHeader(this->Write("lying_ascii", lying.Bytes()), &why, &header));
+  EXPECT_NE(why.find("truncated or its counts are wrong"), std::string::npos) << why;
+  plodtest::TetraPLY exact; // and an honest one passes, with or without a final newline
+  EXPECT_TRUE(plod::ReadPLYHeader(this->Write("ascii", exact.Bytes()), &why, &header)) << why;
+  std::string noNewline = exact.Bytes();
+  noNewline.pop_back();
+  EXPECT_TRUE(plod::ReadPLYHeader(this->Write("ascii_end", noNewline), &why, &header)) << why;
+
+  plodtest::TetraPLY longValue;
+  std::string bytes = longValue.Bytes();
+  const size_t at = bytes.find("end_header\n") + 11;
+  bytes.insert(at, "1." + std::string(200, '0'));
+  bytes.erase(at + 202, 1); // the first coordinate "1" becomes 1.000...0
+  EXPECT_FALSE(plod::ReadPLYMesh(this->Write("long_value", bytes), &m, &why));
+  EXPECT_NE(why.find("longer than"), std::string::npos) << why;
+
+  plodtest::TetraPLY fractional;
+  fractional.IndexType = "float";
+  fractional.Faces[1] = { 0, 2, 1 };
+  std::string text = fractional.Bytes();
+  text.replace(text.rfind("3 0 2 1"), 7, "3 0 2.5 1");
+  EXPECT_FALSE(plod::ReadPLYMesh(this->Write("fractional", text), &m, &why));
+  EXPECT_NE(why.find("not a whole number"), std::string::npos) << why;
+}
+
 TEST_F(PLYRead, AbortStopsTheRead)
 {
   plodtest::TetraPLY t;

@@ -439,10 +439,13 @@ TEST(Partition, NoTrianglesAnywhereAndBadLevels)
   plod::SerialCollective serial;
   plod::PartitionInput in;
   plod::PartitionParameters p;
-  p.OwnershipLevel = 7;
-  const auto bad = plod::PartitionMesh(in, p, serial);
-  EXPECT_FALSE(bad.Ok);
-  EXPECT_NE(bad.Error.find("ownership level"), std::string::npos) << bad.Error;
+  for (int level : { -1, 0, 7, 30 })
+  {
+    p.OwnershipLevel = level;
+    const auto bad = plod::PartitionMesh(in, p, serial);
+    EXPECT_FALSE(bad.Ok);
+    EXPECT_NE(bad.Error.find("ownership level"), std::string::npos) << bad.Error;
+  }
 }
 
 } // namespace

@@ -104,6 +104,12 @@ TEST(ScanGenerator, AFileThatCannotBeWrittenLeavesNothing)
   EXPECT_NE(why.find("cannot write"), std::string::npos) << why;
   EXPECT_FALSE(fs::exists(path + ".partial"));
   EXPECT_FALSE(fs::exists(path));
+  // a split too fine to hold one base triangle's points at once is refused before writing
+  const std::string fine = TempPath("too_fine");
+  EXPECT_FALSE(plodtest::GenerateScanPLY(
+    plodtest::OctahedralSphere(0), plodtest::MaxScanSplit + 1, 1, fine, nullptr, &why));
+  EXPECT_NE(why.find("more than"), std::string::npos) << why;
+  EXPECT_FALSE(fs::exists(fine));
 }
 
 } // namespace
