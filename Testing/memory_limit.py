@@ -27,6 +27,26 @@ def grid_ply(n):
     return head.encode() + body, len(faces)
 
 
+def grid_stl(n):
+    """The same grid as a binary STL."""
+    data, _ = grid_ply(n)
+    head, body = data.split(b'end_header\n', 1)
+    points = [struct.unpack_from('<3f', body, 12 * i) for i in range(n * n)]
+    faces = []
+    for j in range(n - 1):
+        for i in range(n - 1):
+            a = j * n + i
+            faces += [(a, a + 1, a + n + 1), (a, a + n + 1, a + n)]
+    out = bytearray(b'grid'.ljust(80, b' '))
+    out += struct.pack('<I', len(faces))
+    for f in faces:
+        out += struct.pack('<3f', 0, 0, 1)
+        for k in f:
+            out += struct.pack('<3f', *points[k])
+        out += b'\0\0'
+    return bytes(out)
+
+
 def main():
     command = sys.argv[1:]
     failures = []
@@ -51,6 +71,18 @@ def main():
                              capture_output=True, text=True, timeout=300)
         if run.returncode != 0 or not os.path.exists(out) or 'header: ' not in run.stdout:
             failures.append(f'--memory 0.5G: exit {run.returncode}, {run.stderr.strip()}')
+        # an STL model is refused from its check's counts before VTK's reader runs
+        stl = os.path.join(folder, 'grid.stl')
+        with open(stl, 'wb') as f:
+            f.write(grid_stl(120))
+        run = subprocess.run(command + [stl, '--memory', '1M'],
+                             capture_output=True, text=True, timeout=300)
+        if run.returncode != 1 or 'at most' not in run.stderr or 'Nothing was read' not in run.stderr:
+            failures.append(f'STL --memory 1M: exit {run.returncode}, {run.stderr.strip()}')
+        run = subprocess.run(command + [stl, '--memory', '0.5G'],
+                             capture_output=True, text=True, timeout=300)
+        if run.returncode != 0:
+            failures.append(f'STL --memory 0.5G: exit {run.returncode}, {run.stderr.strip()}')
         run = subprocess.run(command + [model, '--memory', 'lots'],
                              capture_output=True, text=True, timeout=300)
         if run.returncode != 1 or '--memory takes a size' not in run.stderr:

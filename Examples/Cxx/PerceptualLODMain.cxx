@@ -13,6 +13,7 @@
 // after its header's counts are checked against --memory (a number of MiB, or with a suffix
 // K, M, G or T; default: three quarters of the machine's memory): a model that cannot fit is
 // refused before anything is read. Progress, with the time left, goes to stdout.
+#include "plodMeshFileCheck.h"
 #include "plodOctreeBuilder.h"
 #include "plodPLYRead.h"
 #include "plodTestUtilities.h"
@@ -91,6 +92,61 @@ void ShowProgress(vtkAlgorithm* filter, const char* what)
   });
   filter->AddObserver(vtkCommand::ProgressEvent, command);
 }
+}
+
+/**
+ * STL and OBJ models are read by VTK's readers into a vtkPolyData before the build: their
+ * counts (from the file checks, one pass through a small buffer) give the least memory that
+ * takes (float points, 64-bit cells, and for STL the unmerged corners the reader holds first)
+ * plus the build's; a model over `limitMiB` is refused with what would fit, before the reader
+ * runs. Other formats pass (a bad file is named by ReadModel).
+ */
+bool FitsInMemory(const std::string& file, double limitMiB)
+{
+  const std::string ext = file.size() > 4 ? file.substr(file.size() - 4) : std::string();
+  int64_t points = 0, triangles = 0;
+  std::string why;
+  if (ext == ".stl" || ext == ".STL")
+  {
+    plod::STLSummary summary;
+    if (!plod::CheckSTLFile(file, &why, &summary, plod::VTKSTLReaderLimits()))
+    {
+      return true; // ReadModel names the problem
+    }
+    triangles = summary.NumberOfTriangles;
+    points = 3 * triangles;
+  }
+  else if (ext == ".obj" || ext == ".OBJ")
+  {
+    plod::OBJSummary summary;
+    if (!plod::CheckOBJFile(file, &why, &summary, plod::VTKOBJReaderLimits()))
+    {
+      return true;
+    }
+    points = summary.NumberOfVertices;
+    triangles = summary.NumberOfFaces * std::max<int64_t>(1, summary.MaxFaceSize - 2);
+  }
+  else
+  {
+    return true;
+  }
+  const double MiB = 1024.0 * 1024.0;
+  const double polydata = 12.0 * double(points) + 32.0 * double(triangles);
+  const double least =
+    polydata + plod::EstimateBuildMemory(std::min(points, triangles), triangles, 9, triangles == 0);
+  if (least <= limitMiB * MiB)
+  {
+    return true;
+  }
+  const double perTriangle = least / double(std::max<int64_t>(1, triangles));
+  std::fprintf(stderr,
+    "%s: %lld triangles need at least %.0f MiB in memory (VTK's reader's polydata %.0f MiB and "
+    "the build), more than the memory limit of %.0f MiB: at most %lld triangles fit. Nothing "
+    "was read; as PLY the builder reads the file itself with less memory.\n"
+    "cannot read a model from '%s' (PLY, STL, OBJ, VTP or .plod)\n",
+    file.c_str(), static_cast<long long>(triangles), least / MiB, polydata / MiB, limitMiB,
+    static_cast<long long>(limitMiB * MiB / perTriangle), file.c_str());
+  return false;
 }
 
 int main(int argc, char* argv[])
@@ -217,6 +273,10 @@ int main(int argc, char* argv[])
       }
       else
       {
+        if (!FitsInMemory(file, builder->GetEffectiveMemoryLimit()))
+        {
+          return 1;
+        }
         model = plodtest::ReadModel(file);
         if (!model)
         {
