@@ -345,7 +345,10 @@ int vtkPerceptualLODSelector::RequestData(
     vtkMatrix4x4::Invert(this->ObjectToWorldMatrix, frame.WorldToObject);
   }
   std::copy(this->ObjectToViewMatrix, this->ObjectToViewMatrix + 16, frame.ObjectToView);
-  vtkMatrix4x4::Invert(this->PreviousObjectToViewMatrix, frame.PreviousViewToObject);
+  if (this->HasPreviousFrame && this->PreviousFrameTime > 0) // read only with motion
+  {
+    vtkMatrix4x4::Invert(this->PreviousObjectToViewMatrix, frame.PreviousViewToObject);
+  }
   frame.HasPreviousFrame = this->HasPreviousFrame;
   frame.PreviousFrameTime = this->PreviousFrameTime;
   frame.FrameInterval = this->FrameInterval;
@@ -358,7 +361,8 @@ int vtkPerceptualLODSelector::RequestData(
   std::copy(this->ProjectionDirection, this->ProjectionDirection + 3, frame.ProjectionDirection);
   frame.ScreenDistance = this->GetScreenDistance();
   frame.ViewportHeight = this->ViewportSize[1];
-  frame.Lights = this->Internal->Lights;
+  frame.Lights = this->Internal->Lights.data();
+  frame.NumberOfLights = this->Internal->Lights.size();
   std::copy(this->FoveationPoint, this->FoveationPoint + 3, frame.FoveationPoint);
   std::copy(this->FoveationUp, this->FoveationUp + 3, frame.FoveationUp);
   std::copy(this->GazeDirection, this->GazeDirection + 3, frame.GazeDirection);

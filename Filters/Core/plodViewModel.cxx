@@ -212,8 +212,10 @@ FrameViewResult MakeFrameView(
   TransformDirection(toObject, f.ProjectionDirection, in.ProjectionDirection);
   in.PixelScale = f.Parallel ? 0.5 * f.ViewportHeight / f.ParallelScale * scale : f.ScreenDistance;
   in.Lights.clear();
-  for (const SelectorLight& l : f.Lights)
+  in.Lights.reserve(f.NumberOfLights);
+  for (size_t i = 0; i < f.NumberOfLights; ++i)
   {
+    const SelectorLight& l = f.Lights[i];
     SelectorLight t = l;
     if (l.Positional)
     {

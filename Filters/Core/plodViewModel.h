@@ -54,7 +54,8 @@ struct FrameView
   double ObjectToWorld[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
   /// The inverse of ObjectToWorld, computed by the caller.
   double WorldToObject[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
-  /// This frame's object-to-view matrix, and the inverse of the previous frame's.
+  /// This frame's object-to-view matrix, and the inverse of the previous frame's (read only
+  /// when there is motion: HasPreviousFrame and PreviousFrameTime > 0).
   double ObjectToView[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
   double PreviousViewToObject[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
   bool HasPreviousFrame = false;
@@ -72,7 +73,9 @@ struct FrameView
   double ScreenDistance = 1000;
   int ViewportHeight = 1;
 
-  std::vector<SelectorLight> Lights;
+  /// The lights (borrowed, not copied: the view is made every frame).
+  const SelectorLight* Lights = nullptr;
+  size_t NumberOfLights = 0;
   double FoveationPoint[3] = { 0, 0, 0 };
   double FoveationUp[3] = { 0, 1, 0 };
   double GazeDirection[3] = { 0, 0, -1 };

@@ -109,12 +109,14 @@ TEST(ViewModel, FrameInLocalCoordinates)
     f.FrustumPlanes[4 * p] = 1; // x >= 0
   f.ScreenDistance = 500;
   f.ViewportHeight = 600;
-  f.Lights.resize(2);
-  f.Lights[0].Positional = true;
-  f.Lights[0].Position[0] = 1;
-  f.Lights[0].Position[1] = 2;
-  f.Lights[0].Position[2] = 3;
-  f.Lights[1].Position[2] = 2;
+  std::vector<plod::SelectorLight> lights(2);
+  lights[0].Positional = true;
+  lights[0].Position[0] = 1;
+  lights[0].Position[1] = 2;
+  lights[0].Position[2] = 3;
+  lights[1].Position[2] = 2;
+  f.Lights = lights.data();
+  f.NumberOfLights = lights.size();
   f.FoveationPoint[0] = 3;
   f.FoveationPoint[1] = 2;
   f.FoveationPoint[2] = 3;
