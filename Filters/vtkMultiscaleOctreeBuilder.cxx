@@ -645,7 +645,7 @@ int vtkMultiscaleOctreeBuilder::BuildFromFile(vtkMultiscaleOctree* output)
   const double meshBytes = plod::EstimatePLYMeshBytes(header);
   const bool cloud = header.NumberOfFaces == 0;
   const double least =
-    meshBytes + plod::EstimateBuildMemory(header.NumberOfVertices, header.NumberOfFaces, 9, cloud);
+    meshBytes + plod::LeastBuildMemory(header.NumberOfVertices, header.NumberOfFaces, cloud);
   if (least > limit)
   {
     const double perItem =

@@ -133,7 +133,7 @@ bool FitsInMemory(const std::string& file, double limitMiB)
   const double MiB = 1024.0 * 1024.0;
   const double polydata = 12.0 * double(points) + 32.0 * double(triangles);
   const double least =
-    polydata + plod::EstimateBuildMemory(std::min(points, triangles), triangles, 9, triangles == 0);
+    polydata + plod::LeastBuildMemory(std::min(points, triangles), triangles, triangles == 0);
   if (least <= limitMiB * MiB)
   {
     return true;
@@ -241,8 +241,8 @@ int main(int argc, char* argv[])
       }
       const double MiB = 1024.0 * 1024.0;
       const double least = plod::EstimatePLYMeshBytes(header) +
-        plod::EstimateBuildMemory(
-          header.NumberOfVertices, header.NumberOfFaces, 9, header.NumberOfFaces == 0);
+        plod::LeastBuildMemory(
+          header.NumberOfVertices, header.NumberOfFaces, header.NumberOfFaces == 0);
       std::printf("header: %lld points, %lld faces; memory at least %.0f MiB (the mesh's "
                   "arrays %.0f MiB and the build); octree file about %.0f MiB\n",
         static_cast<long long>(header.NumberOfVertices),

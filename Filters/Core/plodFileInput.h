@@ -204,12 +204,14 @@ private:
 };
 
 /**
- * Runs `check(summary)` with its outputs made safe: `summary` (or a local one when null) is
- * reset first, no exception leaves (out of memory and anything else become messages), and
- * `why` is "" on success, the message otherwise.
+ * Runs `check(message, summary)` with its outputs made safe: `summary` (or a local one when
+ * null) is reset first, and reset again on failure when `resetOnFailure`; no exception leaves
+ * (out of memory and anything else become messages "... while <activity>"); `why` is "" on
+ * success, the message otherwise.
  */
 template <typename Summary, typename Check>
-bool RunCheckSafely(std::string* why, Summary* summary, Check&& check)
+bool RunCheckSafely(std::string* why, Summary* summary, Check&& check,
+  const char* activity = "checking the file", bool resetOnFailure = false)
 {
   std::string message;
   Summary local;
@@ -222,13 +224,17 @@ bool RunCheckSafely(std::string* why, Summary* summary, Check&& check)
   }
   catch (const std::bad_alloc&)
   {
-    message = "out of memory while checking the file";
+    message = std::string("out of memory while ") + activity;
     ok = false;
   }
   catch (...)
   {
-    message = "unexpected error while checking the file";
+    message = std::string("unexpected error while ") + activity;
     ok = false;
+  }
+  if (!ok && resetOnFailure)
+  {
+    s = Summary();
   }
   if (why)
   {

@@ -71,6 +71,11 @@ int ChooseFinestLevelFromCounts(const int64_t cells[MaxFinestLevel + 1], int64_t
   return ChooseFinestLevel(cells, points, 0, cloud, std::numeric_limits<double>::infinity());
 }
 
+double LeastBuildMemory(int64_t points, int64_t triangles, bool cloud)
+{
+  return EstimateBuildMemory(points, triangles, 9, cloud);
+}
+
 double EstimateOctreeBytes(int64_t points, int64_t triangles)
 {
   // leaves of LeafPoints points, and a full octree's 8/7 nodes per leaf

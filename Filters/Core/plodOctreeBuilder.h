@@ -225,6 +225,11 @@ struct BuildResult
 /// Estimated peak bytes of a build's own memory (outputs and work arrays, not the input).
 double EstimateBuildMemory(int64_t points, int64_t triangles, int64_t nodes, bool cloud);
 
+/// The least memory a build of that many points and triangles needs: EstimateBuildMemory at
+/// its coarsest useful level (level 1, at most 9 nodes), which an automatic level is lowered
+/// towards to fit a limit. An input that needs more than a limit cannot be built within it.
+double LeastBuildMemory(int64_t points, int64_t triangles, bool cloud);
+
 /// Estimated bytes of the octree of a mesh of distinct points at the automatic level (leaves
 /// of about four points, one cluster per node): the arrays of the schema, which the octree
 /// file stores one for one.

@@ -253,11 +253,25 @@ private:
       }
       return true;
     }
+    return this->WalkRows(
+      e, [](size_t) { return false; }, [](int64_t, size_t) { return true; });
+  }
+
+  /// The rows of `e` in order: progress every ProgressRows rows, `read(row, index)` for each
+  /// property `wanted(index)` selects (the others skipped), and the end of each ASCII row.
+  template <typename Wanted, typename Read>
+  bool WalkRows(const PLYElement& e, Wanted&& wanted, Read&& read)
+  {
     for (int64_t row = 0; row < e.Count; ++row)
     {
-      for (const PLYProperty& p : e.Properties)
+      if (row % ProgressRows == 0 && !this->Report())
       {
-        if (!this->SkipProperty(e, row, p))
+        return false;
+      }
+      for (size_t i = 0; i < e.Properties.size(); ++i)
+      {
+        const PLYProperty& p = e.Properties[i];
+        if (!(wanted(i) ? read(row, i) : this->SkipProperty(e, row, p)))
         {
           return false;
         }
@@ -315,29 +329,16 @@ private:
     {
       m.Normals.resize(3 * e.Count);
     }
-    double v = 0;
-    for (int64_t row = 0; row < e.Count; ++row)
-    {
-      if (row % ProgressRows == 0 && !this->Report())
-      {
-        return false;
-      }
-      for (size_t i = 0; i < e.Properties.size(); ++i)
-      {
+    return this->WalkRows(
+      e, [&](size_t i) { return slot[i] >= 0; },
+      [&](int64_t row, size_t i) {
         const PLYProperty& p = e.Properties[i];
-        const int k = slot[i];
-        if (k < 0)
-        {
-          if (!this->SkipProperty(e, row, p))
-          {
-            return false;
-          }
-          continue;
-        }
+        double v = 0;
         if (!this->Value(e, row, p, p.Type, &v))
         {
           return false;
         }
+        const int k = slot[i];
         if (k >= 3)
         {
           m.Normals[3 * row + k - 3] = static_cast<float>(v);
@@ -350,13 +351,8 @@ private:
         {
           m.PointsFloat[3 * row + k] = static_cast<float>(v);
         }
-      }
-      if (!this->EndRow(e, row))
-      {
-        return false;
-      }
-    }
-    return true;
+        return true;
+      });
   }
 
   bool ReadFaces(const PLYElement& e)
@@ -375,24 +371,11 @@ private:
       return this->Fail("element 'face' has no list 'vertex_indices' or 'vertex_index'");
     }
     std::vector<int32_t> corners;
-    double v = 0;
-    for (int64_t row = 0; row < e.Count; ++row)
-    {
-      if (row % ProgressRows == 0 && !this->Report())
-      {
-        return false;
-      }
-      for (size_t i = 0; i < e.Properties.size(); ++i)
-      {
+    return this->WalkRows(
+      e, [&](size_t i) { return static_cast<int>(i) == listIndex; },
+      [&](int64_t row, size_t i) {
         const PLYProperty& p = e.Properties[i];
-        if (static_cast<int>(i) != listIndex)
-        {
-          if (!this->SkipProperty(e, row, p))
-          {
-            return false;
-          }
-          continue;
-        }
+        double v = 0;
         int64_t n = 0;
         if (!this->Count(e, row, p, &n))
         {
@@ -429,13 +412,8 @@ private:
           corners.push_back(static_cast<int32_t>(v));
         }
         this->AddFan(corners);
-      }
-      if (!this->EndRow(e, row))
-      {
-        return false;
-      }
-    }
-    return true;
+        return true;
+      });
   }
 
   /// A face as a fan of triangles about its first corner.
@@ -521,45 +499,23 @@ double EstimatePLYMeshBytes(const PLYSummary& header)
 bool ReadPLYMesh(const std::string& path, PLYMesh* mesh, std::string* why,
   const PLYProgress& progress, double maxBytes)
 {
-  std::string message;
-  PLYMesh local;
-  PLYMesh& m = mesh ? *mesh : local;
-  m = PLYMesh();
-  bool ok = false;
-  try
-  {
-    PLYSummary header;
-    ok = ReadPLYHeader(path, &message, &header);
-    if (ok && !FindPLYElement(header, "vertex"))
-    {
-      message = "the file has no element 'vertex'";
-      ok = false;
-    }
-    if (ok)
-    {
-      MeshReader reader(header, &m, &message, progress, maxBytes);
-      ok = reader.Run(path);
-    }
-  }
-  catch (const std::bad_alloc&)
-  {
-    message = "out of memory while reading the mesh";
-    ok = false;
-  }
-  catch (...)
-  {
-    message = "unexpected error while reading the mesh";
-    ok = false;
-  }
-  if (!ok)
-  {
-    m = PLYMesh();
-  }
-  if (why)
-  {
-    *why = ok ? std::string() : message;
-  }
-  return ok;
+  return fileio::RunCheckSafely(
+    why, mesh,
+    [&](std::string* message, PLYMesh* m) {
+      PLYSummary header;
+      if (!ReadPLYHeader(path, message, &header))
+      {
+        return false;
+      }
+      if (!FindPLYElement(header, "vertex"))
+      {
+        *message = "the file has no element 'vertex'";
+        return false;
+      }
+      MeshReader reader(header, m, message, progress, maxBytes);
+      return reader.Run(path);
+    },
+    "reading the mesh", true);
 }
 
 } // namespace plod
