@@ -33,9 +33,9 @@ vtkPerceptualLODActor::vtkPerceptualLODActor()
   this->Selector->SetInputConnection(this->Builder->GetOutputPort());
   this->Patches->SetInputConnection(this->Selector->GetOutputPort());
   this->LODMapper->SetInputConnection(this->Patches->GetOutputPort());
-  this->Superclass::SetMapper(this->LODMapper);
   this->GPUMapper = vtkPerceptualLODMapper::New();
   this->GPUMapper->SetOctreeConnection(this->Selector->GetOutputPort());
+  this->Superclass::SetMapper(this->GPUMapper); // DRAW_PATH_AUTOMATIC decides per render
   this->Device = vtkActor::New();
   this->DeviceMatrix = vtkMatrix4x4::New();
   this->OnRendererDeleted = vtkCallbackCommand::New();
@@ -103,12 +103,12 @@ void vtkPerceptualLODActor::SetMapper(vtkMapper* mapper)
 //------------------------------------------------------------------------------
 void vtkPerceptualLODActor::SetDrawPath(int path)
 {
-  path = path == DRAW_PATH_GPU ? DRAW_PATH_GPU : DRAW_PATH_CPU;
+  path = std::min(std::max(path, int(DRAW_PATH_CPU)), int(DRAW_PATH_AUTOMATIC));
   if (path != this->DrawPath)
   {
     this->DrawPath = path;
-    this->Superclass::SetMapper(path == DRAW_PATH_GPU ? static_cast<vtkMapper*>(this->GPUMapper)
-                                                      : static_cast<vtkMapper*>(this->LODMapper));
+    this->Superclass::SetMapper(path == DRAW_PATH_CPU ? static_cast<vtkMapper*>(this->LODMapper)
+                                                      : static_cast<vtkMapper*>(this->GPUMapper));
     this->WarnedFallback = false;
     this->Modified();
   }
@@ -337,20 +337,37 @@ void vtkPerceptualLODActor::Render(vtkRenderer* renderer, vtkMapper* mapper)
   this->Device->SetUserMatrix(this->DeviceMatrix);
   this->Device->SetForceOpaque(this->GetForceOpaque());
   this->Device->SetForceTranslucent(this->GetForceTranslucent());
+  mapper = this->ChooseMapper(renderer, mapper);
   this->DrewOnGPU = mapper == this->GPUMapper;
-  if (this->DrewOnGPU && !this->GPUMapper->IsSupported(renderer->GetRenderWindow()))
+  this->Device->Render(renderer, mapper);
+  this->EstimatedRenderTime = mapper->GetTimeToDraw();
+}
+
+//------------------------------------------------------------------------------
+vtkMapper* vtkPerceptualLODActor::ChooseMapper(vtkRenderer* renderer, vtkMapper* mapper)
+{
+  if (mapper != this->GPUMapper)
   {
-    if (!this->WarnedFallback)
+    return mapper;
+  }
+  vtkRenderWindow* window = renderer->GetRenderWindow();
+  if (!this->GPUMapper->IsSupported(window))
+  {
+    if (this->DrawPath == DRAW_PATH_GPU && !this->WarnedFallback)
     {
       this->WarnedFallback = true;
       vtkWarningMacro(<< "The GPU draw path needs " << this->GPUMapper->GetUnsupportedReason()
                       << ", which this OpenGL context lacks: drawing through the CPU path.");
     }
-    mapper = this->LODMapper;
-    this->DrewOnGPU = false;
+    return this->LODMapper;
   }
-  this->Device->Render(renderer, mapper);
-  this->EstimatedRenderTime = mapper->GetTimeToDraw();
+  if (this->DrawPath == DRAW_PATH_AUTOMATIC && this->GPUMapper->IsSoftwareRenderer(window))
+  {
+    return this->LODMapper;
+  }
+  // the GPU path follows the patch generator's fold rule
+  this->GPUMapper->SetFoldHandling(this->Patches->GetFoldHandling());
+  return this->GPUMapper;
 }
 
 //------------------------------------------------------------------------------
@@ -369,7 +386,8 @@ void vtkPerceptualLODActor::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "InputIsOctree: " << this->InputIsOctree << "\n";
   os << indent << "Renderers fed: " << this->Bindings.size() << "\n";
   os << indent << "TargetFrameTime: " << this->TargetFrameTime << " s\n";
-  os << indent << "DrawPath: " << (this->DrawPath == DRAW_PATH_GPU ? "GPU" : "CPU") << "\n";
+  const char* paths[] = { "CPU", "GPU", "automatic" };
+  os << indent << "DrawPath: " << paths[this->DrawPath] << "\n";
   os << indent << "Selector:\n";
   this->Selector->PrintSelf(os, indent.GetNextIndent());
 }

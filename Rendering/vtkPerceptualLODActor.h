@@ -103,21 +103,31 @@ public:
 
   ///@{
   /**
-   * How the cut is drawn: DRAW_PATH_CPU (default: the patch generator's triangles through a
-   * vtkPolyDataMapper) or DRAW_PATH_GPU (vtkPerceptualLODMapper: the surface resident on the
-   * GPU, only the cut's changes sent each frame; the CPU path, with a warning, where the
-   * context lacks what it needs). The GPU path draws folds as they are (the CPU path's
-   * default gives them reversed normals): see vtkPerceptualLODMapper.
+   * How the cut is drawn:
+   * - DRAW_PATH_CPU: the patch generator's triangles through a vtkPolyDataMapper, uploaded
+   *   whenever the cut changes;
+   * - DRAW_PATH_GPU: vtkPerceptualLODMapper, the surface resident on the GPU and only the
+   *   cut's changes sent each frame; the CPU path, with a warning, where the context lacks
+   *   what it needs;
+   * - DRAW_PATH_AUTOMATIC (default): the GPU path on a hardware renderer, the CPU path on a
+   *   software rasterizer (vtkPerceptualLODMapper::IsSoftwareRenderer: there the GPU path's
+   *   vertex shader walks the cluster tree on the CPU's own cores for every vertex of every
+   *   frame, and still frames cost more than the CPU path's), and the CPU path without a
+   *   warning where the context lacks a feature the GPU path needs.
+   * Both paths draw the same picture (tests compare them); the patch generator's settings
+   * (FoldHandling) are followed by the GPU path too.
    */
   enum DrawPaths
   {
     DRAW_PATH_CPU = 0,
-    DRAW_PATH_GPU = 1
+    DRAW_PATH_GPU = 1,
+    DRAW_PATH_AUTOMATIC = 2
   };
   void SetDrawPath(int path);
   vtkGetMacro(DrawPath, int);
   void SetDrawPathToCPU() { this->SetDrawPath(DRAW_PATH_CPU); }
   void SetDrawPathToGPU() { this->SetDrawPath(DRAW_PATH_GPU); }
+  void SetDrawPathToAutomatic() { this->SetDrawPath(DRAW_PATH_AUTOMATIC); }
   /// The GPU path's mapper (its figures: bytes uploaded, triangles drawn).
   vtkPerceptualLODMapper* GetGPUMapper() { return this->GPUMapper; }
   /// True when the last render drew through the GPU path.
@@ -176,6 +186,9 @@ protected:
   vtkPerceptualLODActor();
   ~vtkPerceptualLODActor() override;
 
+  /// The mapper that draws: `mapper` (the path's), or the CPU path's where the GPU path cannot
+  /// or, automatically, should not draw.
+  vtkMapper* ChooseMapper(vtkRenderer* renderer, vtkMapper* mapper);
   /// Connects builder or selector to `input`, by the input's data type.
   void Connect(vtkAlgorithmOutput* input);
   /// Feeds the selector for `renderer` (its own binding, made on first use).
@@ -191,7 +204,7 @@ protected:
   vtkMultiscalePatchGenerator* Patches = nullptr;
   vtkPolyDataMapper* LODMapper = nullptr;
   vtkPerceptualLODMapper* GPUMapper = nullptr;
-  int DrawPath = DRAW_PATH_CPU;
+  int DrawPath = DRAW_PATH_AUTOMATIC;
   bool DrewOnGPU = false;
   bool WarnedFallback = false;
 #ifndef __VTK_WRAP__

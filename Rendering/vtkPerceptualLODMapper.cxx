@@ -35,6 +35,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <vector>
 
@@ -113,6 +114,10 @@ struct vtkPerceptualLODMapper::Resident
   bool Drawable = false;
   bool CullBackFaces = false;
   std::vector<int64_t> First, Counts;
+  // with ghosts: GhostLedBefore[t], the triangles before t whose lead corner is a ghost (they
+  // are uploaded as points); empty without ghosts
+  std::vector<int64_t> GhostLedBefore;
+  std::vector<unsigned int> Indices; // the index buffer while it is made
   std::vector<GLsizei> DrawCounts;
   std::vector<const void*> DrawOffsets;
   plod::PatchWorkspace Workspace;
@@ -180,6 +185,41 @@ bool vtkPerceptualLODMapper::IsSupported(vtkRenderWindow* window)
     return false;
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODMapper::SetSimulatedRendererName(const char* name)
+{
+  this->SimulatedRendererName = name ? name : "";
+}
+
+//------------------------------------------------------------------------------
+bool vtkPerceptualLODMapper::IsSoftwareRenderer(vtkRenderWindow* window)
+{
+  this->RendererName = this->SimulatedRendererName;
+  if (this->RendererName.empty())
+  {
+    auto* gl = vtkOpenGLRenderWindow::SafeDownCast(window);
+    if (!gl || gl->GetNeverRendered())
+    {
+      return false;
+    }
+    gl->MakeCurrent();
+    const GLubyte* name = glGetString(GL_RENDERER);
+    this->RendererName = name ? reinterpret_cast<const char*>(name) : "";
+  }
+  std::string lower = this->RendererName;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* software : { "llvmpipe", "softpipe", "swrast", "software rasterizer",
+         "swiftshader", "basic render driver", "gdi generic" })
+  {
+    if (lower.find(software) != std::string::npos)
+    {
+      return true;
+    }
+  }
+  return false;
 }
 
 //------------------------------------------------------------------------------
@@ -303,6 +343,56 @@ void vtkPerceptualLODMapper::MakeSurface(vtkMultiscaleOctree* octree)
 }
 
 //------------------------------------------------------------------------------
+void vtkPerceptualLODMapper::BuildIBO(vtkRenderer*, vtkActor*, vtkPolyData*)
+{
+  // the octree's triangles as they are, one for one, so that a range of the owner-sorted array
+  // is a range of the buffer (VTK's own index buffer skips triangles with coincident corners)
+  Resident& r = *this->Internal;
+  const plod::OctreeView& v = r.View;
+  for (vtkOpenGLHelper& primitive : this->Primitives)
+  {
+    primitive.IBO->IndexCount = 0;
+  }
+  r.Indices.assign(v.Triangles, v.Triangles + 3 * v.NumberOfTriangles);
+  this->CollapseGhostLedTriangles(r.Indices.data());
+  vtkOpenGLIndexBufferObject* ibo = this->Primitives[PrimitiveTris].IBO;
+  if (!r.Indices.empty())
+  {
+    ibo->Upload(r.Indices, vtkOpenGLBufferObject::ElementArrayBuffer);
+  }
+  ibo->IndexCount = r.Indices.size();
+  r.Indices = std::vector<unsigned int>(); // the GPU holds them
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODMapper::CollapseGhostLedTriangles(unsigned int* triangles)
+{
+  Resident& r = *this->Internal;
+  const plod::OctreeView& v = r.View;
+  r.GhostLedBefore.clear();
+  if (!v.PointGhost)
+  {
+    return;
+  }
+  // the patch generator's rule: another process draws a triangle whose lead corner (its
+  // smallest point index) is a ghost here; all three corners on the lead, it draws nothing
+  r.GhostLedBefore.resize(static_cast<size_t>(v.NumberOfTriangles) + 1);
+  int64_t ghostLed = 0;
+  for (vtkIdType t = 0; t < v.NumberOfTriangles; ++t)
+  {
+    r.GhostLedBefore[t] = ghostLed;
+    unsigned int* c = triangles + 3 * t;
+    const unsigned int lead = std::min({ c[0], c[1], c[2] });
+    if (v.PointGhost[lead] != 0)
+    {
+      c[0] = c[1] = c[2] = lead;
+      ++ghostLed;
+    }
+  }
+  r.GhostLedBefore[v.NumberOfTriangles] = ghostLed;
+}
+
+//------------------------------------------------------------------------------
 void vtkPerceptualLODMapper::UploadResident(vtkOpenGLRenderWindow* window)
 {
   Resident& r = *this->Internal;
@@ -396,6 +486,10 @@ void vtkPerceptualLODMapper::RenderPieceDraw(vtkRenderer* ren, vtkActor* act)
     r.DrawOffsets[i] =
       reinterpret_cast<const void*>(static_cast<uintptr_t>(3 * r.First[i] * sizeof(GLuint)));
     drawn += r.Counts[i];
+    if (!r.GhostLedBefore.empty())
+    {
+      drawn -= r.GhostLedBefore[r.First[i] + r.Counts[i]] - r.GhostLedBefore[r.First[i]];
+    }
   }
   tris.IBO->Bind();
   glMultiDrawElements(GL_TRIANGLES, r.DrawCounts.data(), GL_UNSIGNED_INT, r.DrawOffsets.data(),
@@ -453,6 +547,88 @@ void vtkPerceptualLODMapper::ReplaceShaderValues(
     vtkShaderProgram::Substitute(vs, "* normalMC", "* plodNormalMC", true);
   }
   shaders[vtkShader::Vertex]->SetSource(vs);
+  this->ReplaceFoldRule(shaders[vtkShader::Geometry]);
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODMapper::GetShaderTemplate(
+  std::map<vtkShader::Type, vtkShader*> shaders, vtkRenderer* ren, vtkActor* act)
+{
+  this->Superclass::GetShaderTemplate(shaders, ren, act);
+  if (this->FoldHandling == 0 || !shaders[vtkShader::Geometry]->GetSource().empty())
+  {
+    return;
+  }
+  // a pass-through geometry shader with VTK's tags, so that it sees each triangle's three
+  // corners (ReplaceFoldRule fills it in)
+  shaders[vtkShader::Geometry]->SetSource("//VTK::System::Dec\n"
+                                          "uniform int PrimitiveIDOffset;\n"
+                                          "//VTK::PositionVC::Dec\n"
+                                          "//VTK::PrimID::Dec\n"
+                                          "//VTK::Color::Dec\n"
+                                          "//VTK::Normal::Dec\n"
+                                          "//VTK::Light::Dec\n"
+                                          "//VTK::TCoord::Dec\n"
+                                          "//VTK::Picking::Dec\n"
+                                          "//VTK::DepthPeeling::Dec\n"
+                                          "//VTK::Clip::Dec\n"
+                                          "//VTK::Output::Dec\n"
+                                          "layout(triangles) in;\n"
+                                          "layout(triangle_strip, max_vertices = 3) out;\n"
+                                          "void main()\n"
+                                          "{\n"
+                                          "  //VTK::Normal::Start\n"
+                                          "  //PLOD::Fold::Impl\n"
+                                          "  for (int i = 0; i < 3; i++)\n"
+                                          "  {\n"
+                                          "    //VTK::PrimID::Impl\n"
+                                          "    //VTK::Clip::Impl\n"
+                                          "    //VTK::Color::Impl\n"
+                                          "    //VTK::Normal::Impl\n"
+                                          "    //VTK::Light::Impl\n"
+                                          "    //VTK::TCoord::Impl\n"
+                                          "    //VTK::DepthPeeling::Impl\n"
+                                          "    //VTK::Picking::Impl\n"
+                                          "    //VTK::PositionVC::Impl\n"
+                                          "    gl_Position = gl_in[i].gl_Position;\n"
+                                          "    EmitVertex();\n"
+                                          "  }\n"
+                                          "  EndPrimitive();\n"
+                                          "}\n");
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODMapper::ReplaceFoldRule(vtkShader* geometry)
+{
+  std::string gs = geometry->GetSource();
+  const std::string normal = "normalVCGSOutput = normalVCVSOutput[i];";
+  const size_t at = gs.find(normal);
+  if (gs.find("//PLOD::Fold::Impl") == std::string::npos)
+  {
+    return; // not this mapper's geometry shader
+  }
+  if (at == std::string::npos || gs.find("in vec4 vertexVCVSOutput[];") == std::string::npos)
+  {
+    // no point normals or no lighting: nothing to decide, no geometry shader
+    geometry->SetSource("");
+    return;
+  }
+  // the patch generator's rule (plodPatches.h): turned over when the face normal opposes the
+  // normals of all three corners; then reversed (VTK's two-sided lighting turns them back and
+  // the fold is lit as the surface facing the viewer) or not emitted
+  std::string rule =
+    "  vec3 plodFace = cross(vertexVCVSOutput[1].xyz - vertexVCVSOutput[0].xyz,\n"
+    "    vertexVCVSOutput[2].xyz - vertexVCVSOutput[0].xyz);\n"
+    "  bool plodFold = dot(plodFace, normalVCVSOutput[0]) < 0.0 &&\n"
+    "    dot(plodFace, normalVCVSOutput[1]) < 0.0 && dot(plodFace, normalVCVSOutput[2]) < 0.0;\n";
+  rule += this->FoldHandling == 1 ? "  if (plodFold) { return; }\n"
+                                  : "  float plodTurn = plodFold ? -1.0 : 1.0;\n";
+  vtkShaderProgram::Substitute(gs, "//PLOD::Fold::Impl", rule);
+  if (this->FoldHandling == 2)
+  {
+    vtkShaderProgram::Substitute(gs, normal, "normalVCGSOutput = plodTurn * normalVCVSOutput[i];");
+  }
+  geometry->SetSource(gs);
 }
 
 //------------------------------------------------------------------------------
@@ -505,4 +681,6 @@ void vtkPerceptualLODMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfDrawnTriangles: " << this->NumberOfDrawnTriangles << "\n";
   os << indent << "NumberOfRanges: " << this->NumberOfRanges << "\n";
   os << indent << "SimulatedMissingFeature: " << this->SimulatedMissingFeature << "\n";
+  os << indent << "RendererName: " << this->RendererName << "\n";
+  os << indent << "FoldHandling: " << this->FoldHandling << "\n";
 }

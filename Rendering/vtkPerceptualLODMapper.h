@@ -19,22 +19,30 @@
  * actor->SetMapper(mapper);
  * @endcode
  *
- * It draws the same triangles at the same places as vtkMultiscalePatchGenerator with
- * FoldHandling KEEP, with these differences: back faces are culled by OpenGL
- * (glCullFace) when the selector hid them, where the patch generator tests each triangle
- * against the eye; triangles among hidden (culled) cells are sent and clipped rather than
- * skipped; turned-over triangles (folds) are drawn as they are, not on reversed normals. The
- * mapper's input is made from the octree (do not set one); the octree's cut must come from a
- * vtkPerceptualLODSelector or a vtkMultiscaleOctreeCutter.
+ * It draws the same triangles at the same places as vtkMultiscalePatchGenerator, with these
+ * differences: back faces are culled by OpenGL (glCullFace) when the selector hid them, where
+ * the patch generator tests each triangle against the eye; triangles among hidden (culled)
+ * cells are sent and clipped rather than skipped. The mapper's input is made from the octree
+ * (do not set one); the octree's cut must come from a vtkPerceptualLODSelector or a
+ * vtkMultiscaleOctreeCutter.
  *
- * It needs OpenGL 4.0 (buffer textures of three floats, integer textures, gl_VertexID) and
- * glMultiDrawElements.
+ * Folds (triangles that clustering turned over, see plodPatches.h) get the patch generator's
+ * treatment, decided by a geometry shader from each triangle's three corners: with
+ * FOLDS_REVERSE_NORMALS (the default) their normals are reversed, so that they are lit as the
+ * surface facing the viewer; with FOLDS_DROP they are not drawn; with FOLDS_KEEP (no geometry
+ * shader) they are drawn as they are. The triangle counts do not know folds: dropped folds are
+ * counted as drawn.
+ *
+ * Ghosts (OctreeView::PointGhost, an octree built from a piece of a distributed mesh): a
+ * triangle whose lead corner is a ghost is uploaded as a point (its three corners the same),
+ * so it draws nothing and is not counted, the patch generator's rule.
+ *
+ * It needs OpenGL 4.0 (buffer textures of three floats, integer textures, gl_VertexID, geometry
+ * shaders) and glMultiDrawElements.
  * IsSupported() tells whether a render window has them; vtkPerceptualLODActor falls back to the
  * CPU path with a warning naming the missing feature.
  *
- * @warning Hardware picking and the value pass see the whole surface, not the cut. Ghost flags
- * (PointGhost, a distributed build) are not honoured: every triangle of the cut is drawn, so
- * a distributed build must draw through the CPU path (the ParaView representation always does).
+ * @warning Hardware picking and the value pass see the whole surface, not the cut.
  *
  * @sa vtkPerceptualLODActor vtkMultiscalePatchGenerator vtkPerceptualLODSelector
  */
@@ -85,6 +93,31 @@ public:
    */
   void SetSimulatedMissingFeature(const char* feature);
 
+  /**
+   * True when `window`'s OpenGL renderer is a software rasterizer (Mesa's llvmpipe, softpipe
+   * or swrast, SwiftShader, Microsoft's basic render driver, GDI Generic): there the vertex
+   * shader's walk runs on the CPU's cores. The window must have been rendered once.
+   * GetRendererName() is the renderer string read.
+   */
+  bool IsSoftwareRenderer(vtkRenderWindow* window);
+  const char* GetRendererName() { return this->RendererName.c_str(); }
+
+  /**
+   * For tests: act as if the OpenGL renderer string were `name`. Empty: the context's own.
+   * Default empty.
+   */
+  void SetSimulatedRendererName(const char* name);
+
+  ///@{
+  /**
+   * What to do with folds (triangles clustering turned over), with the values of
+   * vtkMultiscalePatchGenerator::FoldHandlings: 0 keep, 1 drop, 2 reverse normals (default).
+   * Decided per fragment (see the class documentation).
+   */
+  vtkSetClampMacro(FoldHandling, int, 0, 2);
+  vtkGetMacro(FoldHandling, int);
+  ///@}
+
   void RenderPiece(vtkRenderer* ren, vtkActor* act) override;
   /// The bounds of the octree's surface (the octree is updated first).
   double* GetBounds() override;
@@ -107,6 +140,16 @@ protected:
   /// The cluster tree as buffer textures (once per octree) and the cut's changed spans.
   void UploadResident(vtkOpenGLRenderWindow* window);
   void UploadCut(vtkOpenGLRenderWindow* window);
+  /// The triangles' index buffer: the octree's, in its order, ghost-led ones made points.
+  void BuildIBO(vtkRenderer* ren, vtkActor* act, vtkPolyData* poly) override;
+  /// Ghost-led triangles of `triangles` (the octree's, copied) made points; counts them.
+  void CollapseGhostLedTriangles(unsigned int* triangles);
+  /// With folds reversed or dropped: a pass-through geometry shader (the rule needs each
+  /// triangle's three corners).
+  void GetShaderTemplate(
+    std::map<vtkShader::Type, vtkShader*> shaders, vtkRenderer* ren, vtkActor* act) override;
+  /// The geometry shader's fold rule, as FoldHandling says (none without lighting normals).
+  void ReplaceFoldRule(vtkShader* geometry);
 
   vtkIdType LastUploadBytes = 0;
   vtkIdType LastStateUploadBytes = 0;
@@ -114,6 +157,9 @@ protected:
   vtkIdType NumberOfRanges = 0;
   std::string UnsupportedReason;
   std::string SimulatedMissingFeature;
+  std::string RendererName;
+  std::string SimulatedRendererName;
+  int FoldHandling = 2;
 
 private:
   vtkPerceptualLODMapper(const vtkPerceptualLODMapper&) = delete;

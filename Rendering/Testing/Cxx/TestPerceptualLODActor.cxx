@@ -490,3 +490,90 @@ TEST(PerceptualLODActor, GPUPathDrawsTheCPUPathsPicture)
   EXPECT_EQ(fallback, cpu) << "the fallback is the CPU path";
   EXPECT_EQ(fallbackTriangles, cpuTriangles);
 }
+
+// The default draw path: the GPU path on a hardware renderer, the CPU path on a software
+// rasterizer and, without a warning, where the context lacks a feature the GPU path needs;
+// either way the picture of the CPU path with the patch generator's fold rule.
+TEST(PerceptualLODActor, AutomaticDrawPathChoosesByRenderer)
+{
+  auto blob = plodtest::MakeBlob(4, 90, 0.3);
+  struct Drawn
+  {
+    std::vector<unsigned char> Pixels;
+    bool OnGPU = false;
+    size_t Warnings = 0;
+    std::string Renderer;
+    bool Software = false;
+    int Folds = -1;
+  };
+  auto draw = [&blob](int path, const char* renderer, const char* missing, int folds = -1) {
+    Scene s;
+    vtkNew<vtkPerceptualLODActor> actor;
+    actor->SetInputData(blob);
+    if (folds >= 0)
+      actor->GetPatchGenerator()->SetFoldHandling(folds);
+    if (path >= 0)
+      actor->SetDrawPath(path);
+    if (renderer)
+      actor->GetGPUMapper()->SetSimulatedRendererName(renderer);
+    if (missing)
+      actor->GetGPUMapper()->SetSimulatedMissingFeature(missing);
+    vtkNew<plodtest::ErrorRecorder> warnings;
+    actor->AddObserver(vtkCommand::WarningEvent, warnings);
+    s.Renderer->AddActor(actor);
+    s.Renderer->ResetCamera();
+    s.Renderer->GetActiveCamera()->Azimuth(40);
+    s.Renderer->GetActiveCamera()->Dolly(1.6);
+    s.Renderer->ResetCameraClippingRange();
+    Drawn d;
+    d.Pixels = s.Image();
+    d.OnGPU = actor->GetDrewOnGPU();
+    d.Warnings = warnings->Warnings.size();
+    d.Software = actor->GetGPUMapper()->IsSoftwareRenderer(s.Window);
+    d.Folds = actor->GetGPUMapper()->GetFoldHandling();
+    d.Renderer = actor->GetGPUMapper()->GetRendererName();
+    return d;
+  };
+  vtkNew<vtkPerceptualLODActor> fresh;
+  EXPECT_EQ(fresh->GetDrawPath(), vtkPerceptualLODActor::DRAW_PATH_AUTOMATIC);
+  const Drawn cpu = draw(vtkPerceptualLODActor::DRAW_PATH_CPU, nullptr, nullptr);
+  EXPECT_FALSE(cpu.OnGPU);
+  EXPECT_GT(Lit(cpu.Pixels), 2000);
+  // this machine's renderer, as it is
+  const Drawn automatic = draw(-1, nullptr, nullptr);
+  std::printf("renderer: %s\n", automatic.Renderer.c_str());
+  EXPECT_FALSE(automatic.Renderer.empty());
+  EXPECT_EQ(automatic.OnGPU, !automatic.Software) << automatic.Renderer;
+  EXPECT_EQ(automatic.Warnings, 0u);
+  // a hardware renderer's name: the GPU path, with the CPU path's picture (folds reversed)
+  const Drawn hardware = draw(-1, "NVIDIA H100 PCIe/PCIe/SSE2", nullptr);
+  EXPECT_TRUE(hardware.OnGPU);
+  int differ = 0;
+  for (size_t i = 0; i + 2 < cpu.Pixels.size(); i += 3)
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(cpu.Pixels[i + k] - hardware.Pixels[i + k]) > 8)
+      {
+        ++differ;
+        break;
+      }
+  EXPECT_LE(differ, Lit(cpu.Pixels) / 200 + 5) << "pixels that differ from the CPU path";
+  // the GPU path follows the patch generator's fold rule (the mapper's test shows that the
+  // two paths then draw the same picture)
+  const Drawn hardwareDrop =
+    draw(-1, "NVIDIA H100 PCIe/PCIe/SSE2", nullptr, vtkMultiscalePatchGenerator::FOLDS_DROP);
+  EXPECT_TRUE(hardwareDrop.OnGPU);
+  EXPECT_EQ(hardwareDrop.Folds, vtkMultiscalePatchGenerator::FOLDS_DROP);
+  // software rasterizers' names: the CPU path
+  for (const char* name : { "llvmpipe (LLVM 15.0.6, 256 bits)", "softpipe", "SwiftShader Device",
+         "Microsoft Basic Render Driver", "GDI Generic" })
+  {
+    const Drawn soft = draw(-1, name, nullptr);
+    EXPECT_FALSE(soft.OnGPU) << name;
+    EXPECT_EQ(soft.Pixels, cpu.Pixels) << name;
+  }
+  // a missing feature: the CPU path, without a warning (the GPU path asked for warns)
+  const Drawn lacking = draw(-1, "NVIDIA H100 PCIe/PCIe/SSE2", "glMultiDrawElements");
+  EXPECT_FALSE(lacking.OnGPU);
+  EXPECT_EQ(lacking.Warnings, 0u);
+  EXPECT_EQ(lacking.Pixels, cpu.Pixels);
+}

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // vtkPerceptualLODMapper, the GPU draw path: over random cuts, the image and the triangles of
-// the CPU path (vtkMultiscalePatchGenerator with FoldHandling KEEP drawn by a vtkPolyDataMapper);
-// a still frame uploads nothing; a change of cut uploads the changed spans of the state.
+// the CPU path (vtkMultiscalePatchGenerator drawn by a vtkPolyDataMapper), folds kept on both
+// and treated by each path's default; ghost-led triangles not drawn; a still frame uploads
+// nothing; a change of cut uploads the changed spans of the state.
 #include "plodCut.h"
 #include "plodOctree.h"
 #include "plodTestUtilities.h"
@@ -61,6 +62,22 @@ struct View
   }
 };
 
+/// Pixels covered in `a` (not the background of its first pixel), and pixels where `a` and `b`
+/// differ by more than 8 in a channel.
+std::pair<int, int> CoveredAndDiffering(
+  const std::vector<unsigned char>& a, const std::vector<unsigned char>& b)
+{
+  int covered = 0, differ = 0;
+  for (size_t i = 0; i + 2 < a.size(); i += 3)
+  {
+    covered += (a[i] != a[0] || a[i + 1] != a[1] || a[i + 2] != a[2]) ? 1 : 0;
+    const int d = std::max(
+      { std::abs(a[i] - b[i]), std::abs(a[i + 1] - b[i + 1]), std::abs(a[i + 2] - b[i + 2]) });
+    differ += d > 8 ? 1 : 0;
+  }
+  return { covered, differ };
+}
+
 /// A random valid cut of `v` (refinement falling with depth, some leaves opened).
 std::vector<uint8_t> RandomCut(const plod::OctreeView& v, std::mt19937& rng)
 {
@@ -109,6 +126,7 @@ TEST(PerceptualLODMapper, RandomCutsDrawTheCPUPathsImageAndTriangles)
     models.push_back({ "bunny", plodtest::ReadModel(bunny) });
   }
   std::mt19937 rng(3);
+  int foldPixels = 0, defaultsDifferTotal = 0;
   for (const auto& model : models)
   {
     ASSERT_NE(model.second, nullptr) << model.first;
@@ -121,21 +139,30 @@ TEST(PerceptualLODMapper, RandomCutsDrawTheCPUPathsImageAndTriangles)
     ASSERT_TRUE(octree->GetView(v)) << model.first;
     vtkNew<vtkTrivialProducer> source;
     source->SetOutput(octree);
-    // the CPU path, folds kept (the GPU path draws them as they are)
-    vtkNew<vtkMultiscalePatchGenerator> patches;
+    // each path twice: folds kept, and each path's default (reversed normals)
+    vtkNew<vtkMultiscalePatchGenerator> patches, patchesDefault;
     patches->SetInputConnection(source->GetOutputPort());
     patches->SetFoldHandling(vtkMultiscalePatchGenerator::FOLDS_KEEP);
-    vtkNew<vtkPolyDataMapper> cpuMapper;
+    patchesDefault->SetInputConnection(source->GetOutputPort());
+    vtkNew<vtkPolyDataMapper> cpuMapper, cpuDefaultMapper;
     cpuMapper->SetInputConnection(patches->GetOutputPort());
     cpuMapper->ScalarVisibilityOff();
-    vtkNew<vtkPerceptualLODMapper> gpuMapper;
+    cpuDefaultMapper->SetInputConnection(patchesDefault->GetOutputPort());
+    cpuDefaultMapper->ScalarVisibilityOff();
+    vtkNew<vtkPerceptualLODMapper> gpuMapper, gpuDefaultMapper;
     gpuMapper->SetOctreeConnection(source->GetOutputPort());
-    View cpu(cpuMapper), gpu(gpuMapper);
+    gpuMapper->SetFoldHandling(vtkMultiscalePatchGenerator::FOLDS_KEEP);
+    gpuDefaultMapper->SetOctreeConnection(source->GetOutputPort());
+    ASSERT_EQ(gpuDefaultMapper->GetFoldHandling(), patchesDefault->GetFoldHandling());
+    View cpu(cpuMapper), gpu(gpuMapper), cpuDefault(cpuDefaultMapper), gpuDefault(gpuDefaultMapper);
     cpu.Renderer->ResetCamera(model.second->GetBounds());
     cpu.Renderer->GetActiveCamera()->Azimuth(35);
     cpu.Renderer->GetActiveCamera()->Elevation(20);
     cpu.Renderer->ResetCameraClippingRange();
-    gpu.Renderer->SetActiveCamera(cpu.Renderer->GetActiveCamera());
+    for (View* other : { &gpu, &cpuDefault, &gpuDefault })
+    {
+      other->Renderer->SetActiveCamera(cpu.Renderer->GetActiveCamera());
+    }
     for (int trial = 0; trial < 6; ++trial)
     {
       SetCut(octree, RandomCut(v, rng));
@@ -145,26 +172,89 @@ TEST(PerceptualLODMapper, RandomCutsDrawTheCPUPathsImageAndTriangles)
       const std::string what = model.first + " cut " + std::to_string(trial);
       // the same triangles (no hidden cells, no back-face culling, folds kept)
       EXPECT_EQ(gpuMapper->GetNumberOfDrawnTriangles(), patches->GetNumberOfTriangles()) << what;
-      int covered = 0, differ = 0;
-      for (size_t i = 0; i + 2 < a.size(); i += 3)
-      {
-        const bool ca = a[i] != a[0] || a[i + 1] != a[1] || a[i + 2] != a[2];
-        covered += ca ? 1 : 0;
-        const int d = std::max(
-          { std::abs(a[i] - b[i]), std::abs(a[i + 1] - b[i + 1]), std::abs(a[i + 2] - b[i + 2]) });
-        differ += d > 8 ? 1 : 0;
-      }
+      const auto [covered, differ] = CoveredAndDiffering(a, b);
       if (patches->GetNumberOfTriangles() > 200)
       {
         EXPECT_GT(covered, 500) << what;
       }
-      std::printf("%s: %lld triangles, %d pixels covered, %d differ\n", what.c_str(),
-        static_cast<long long>(patches->GetNumberOfTriangles()), covered, differ);
+      // the defaults: folds lit as the surface facing the viewer on both paths; the GPU path
+      // decides per fragment, so fragments of triangles with only some corner normals opposing
+      // the face are treated as folds too (the patch generator draws those as they are)
+      const std::vector<unsigned char> c = cpuDefault.Image(), d = gpuDefault.Image();
+      const int defaultsDiffer = CoveredAndDiffering(c, d).second;
+      const int foldsShow = CoveredAndDiffering(a, c).second;
+      std::printf("%s: %lld triangles (%lld folds), %d pixels covered, %d differ folds kept, "
+                  "%d differ by default; the default changes %d pixels\n",
+        what.c_str(), static_cast<long long>(patches->GetNumberOfTriangles()),
+        static_cast<long long>(patchesDefault->GetNumberOfFolds()), covered, differ, defaultsDiffer,
+        foldsShow);
       // the same picture, up to pixels at edges where the two paths' single-precision
       // positions round differently (the GPU path adds the origin in the shader)
       EXPECT_LE(differ, covered / 200 + 5) << what << ": pixels that differ by more than 8";
+      EXPECT_LE(defaultsDiffer, covered / 200 + 5) << what << ": by default";
+      foldPixels += foldsShow;
+      defaultsDifferTotal += defaultsDiffer;
     }
   }
+  // the fold rule at work: the pixels that reversing the folds changes on the CPU path are
+  // changed the same way on the GPU path
+  EXPECT_GT(foldPixels, 100) << "too few folds in view to test the rule";
+  EXPECT_LE(defaultsDifferTotal, foldPixels / 10);
+}
+
+TEST(PerceptualLODMapper, GhostLedTrianglesAreNotDrawn)
+{
+  auto blob = plodtest::MakeBlob(5, 60, 0.3);
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(blob);
+  builder->Update();
+  vtkNew<vtkMultiscaleOctree> octree;
+  octree->DeepCopy(builder->GetOutput());
+  // every third point a ghost, in runs (as a piece of a distributed mesh has them)
+  octree->AllocatePointGhosts();
+  auto* ghosts = vtkUnsignedCharArray::SafeDownCast(
+    octree->GetSurfaceData()->GetArray(vtkMultiscaleOctree::PointGhostArrayName()));
+  ASSERT_NE(ghosts, nullptr);
+  for (vtkIdType p = 0; p < ghosts->GetNumberOfValues(); ++p)
+    ghosts->SetValue(p, (p / 50) % 3 == 0 ? 1 : 0);
+  octree->Modified();
+  plod::OctreeView v;
+  ASSERT_TRUE(octree->GetView(v));
+  ASSERT_NE(v.PointGhost, nullptr);
+  vtkNew<vtkTrivialProducer> source;
+  source->SetOutput(octree);
+  vtkNew<vtkMultiscalePatchGenerator> patches;
+  patches->SetInputConnection(source->GetOutputPort());
+  patches->SetFoldHandling(vtkMultiscalePatchGenerator::FOLDS_KEEP);
+  vtkNew<vtkPolyDataMapper> cpuMapper;
+  cpuMapper->SetInputConnection(patches->GetOutputPort());
+  cpuMapper->ScalarVisibilityOff();
+  vtkNew<vtkPerceptualLODMapper> gpuMapper;
+  gpuMapper->SetOctreeConnection(source->GetOutputPort());
+  gpuMapper->SetFoldHandling(vtkMultiscalePatchGenerator::FOLDS_KEEP);
+  View cpu(cpuMapper), gpu(gpuMapper);
+  cpu.Renderer->ResetCamera(blob->GetBounds());
+  gpu.Renderer->SetActiveCamera(cpu.Renderer->GetActiveCamera());
+  std::mt19937 rng(11);
+  int compared = 0;
+  for (int trial = 0; trial < 6; ++trial)
+  {
+    SetCut(octree, RandomCut(v, rng));
+    source->Modified();
+    const std::vector<unsigned char> a = cpu.Image(), b = gpu.Image();
+    const std::string what = "cut " + std::to_string(trial);
+    if (patches->GetNumberOfTriangles() + patches->GetNumberOfGhostTriangles() < 100)
+    {
+      continue; // a cut near the root: too few triangles to tell
+    }
+    ++compared;
+    EXPECT_GT(patches->GetNumberOfGhostTriangles(), 0) << what;
+    EXPECT_EQ(gpuMapper->GetNumberOfDrawnTriangles(), patches->GetNumberOfTriangles()) << what;
+    const auto [covered, differ] = CoveredAndDiffering(a, b);
+    EXPECT_GT(covered, 500) << what;
+    EXPECT_LE(differ, covered / 200 + 5) << what << ": pixels that differ by more than 8";
+  }
+  EXPECT_GE(compared, 3);
 }
 
 TEST(PerceptualLODMapper, StillFramesUploadNothingAndChangesUploadTheirSpans)
