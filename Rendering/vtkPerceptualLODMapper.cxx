@@ -114,6 +114,10 @@ struct vtkPerceptualLODMapper::Resident
   bool Drawable = false;
   bool CullBackFaces = false;
   std::vector<int64_t> First, Counts;
+  // the cut of the last frame drawn (octree stamp, cut array's time and address) and whether
+  // this frame's differs
+  std::array<vtkMTimeType, 3> CutKey = {};
+  bool CutChanged = true;
   // with ghosts: GhostLedBefore[t], the triangles before t whose lead corner is a ghost (they
   // are uploaded as points); empty without ghosts
   std::vector<int64_t> GhostLedBefore;
@@ -285,12 +289,19 @@ void vtkPerceptualLODMapper::RenderPiece(vtkRenderer* ren, vtkActor* act)
     return;
   }
   r.Cut = cut->GetPointer(0);
+  // a still frame (the same cut as the last one drawn): nothing to find and nothing to send
+  const std::array<vtkMTimeType, 3> cutKey = { r.SurfaceStamp, cut->GetMTime(),
+    static_cast<vtkMTimeType>(reinterpret_cast<uintptr_t>(r.Cut)) };
+  r.CutChanged = cutKey != r.CutKey;
   std::string why;
-  if (!plod::DrawnTriangleRanges(r.View, r.Cut, r.First, r.Counts, &why, &r.Workspace))
+  if (r.CutChanged &&
+    !plod::DrawnTriangleRanges(r.View, r.Cut, r.First, r.Counts, &why, &r.Workspace))
   {
+    r.CutKey = {};
     vtkErrorMacro("Invalid cut: " << why << ". Nothing drawn.");
     return;
   }
+  r.CutKey = cutKey;
   // back faces: culled as the selector asked (CutView's last value)
   r.CullBackFaces = false;
   if (vtkFieldData* fd = octree->GetFieldData())
@@ -425,7 +436,7 @@ void vtkPerceptualLODMapper::UploadCut(vtkOpenGLRenderWindow* window)
     bytes = state.Upload(window, r.Cut, n, 1, VTK_UNSIGNED_CHAR, 1);
     r.Uploaded.assign(r.Cut, r.Cut + n);
   }
-  else
+  else if (r.CutChanged)
   {
     // only what changed: spans closer than 64 bytes sent as one
     plod::ChangedSpans(r.Uploaded.data(), r.Cut, n, 64, r.Spans);
@@ -669,6 +680,7 @@ void vtkPerceptualLODMapper::ReleaseGraphicsResources(vtkWindow* window)
   }
   r.ResidentValid = false;
   r.Uploaded.clear();
+  r.CutKey = {};
   this->Superclass::ReleaseGraphicsResources(window);
 }
 
