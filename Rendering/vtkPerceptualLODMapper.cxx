@@ -36,6 +36,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <vector>
 
@@ -43,6 +44,12 @@ vtkStandardNewMacro(vtkPerceptualLODMapper);
 
 namespace
 {
+/// Seconds on a monotonic clock.
+double Now()
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 /// One array of the octree on the GPU: a buffer object seen by the shader as a buffer texture.
 struct DeviceArray
 {
@@ -272,8 +279,10 @@ double* vtkPerceptualLODMapper::GetBounds()
 void vtkPerceptualLODMapper::RenderPiece(vtkRenderer* ren, vtkActor* act)
 {
   Resident& r = *this->Internal;
+  const double start = Now();
   this->LastUploadBytes = this->LastStateUploadBytes = 0;
   this->NumberOfDrawnTriangles = this->NumberOfRanges = 0;
+  this->LastCPUTime = 0;
   r.Drawable = false;
   vtkMultiscaleOctree* octree = this->UpdateOctree();
   if (!octree)
@@ -310,6 +319,7 @@ void vtkPerceptualLODMapper::RenderPiece(vtkRenderer* ren, vtkActor* act)
     r.CullBackFaces = view && view->GetNumberOfValues() == 8 && view->GetComponent(7, 0) != 0;
   }
   r.Drawable = true;
+  this->LastCPUTime = Now() - start;
   this->Superclass::RenderPiece(ren, act);
 }
 
@@ -467,11 +477,13 @@ void vtkPerceptualLODMapper::RenderPieceDraw(vtkRenderer* ren, vtkActor* act)
   {
     return;
   }
+  const double start = Now();
   if (!r.ResidentValid)
   {
     this->UploadResident(window);
   }
   this->UploadCut(window);
+  this->LastCPUTime += Now() - start;
   if (r.First.empty())
   {
     return;

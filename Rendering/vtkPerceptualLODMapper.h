@@ -81,6 +81,14 @@ public:
   ///@}
 
   /**
+   * The CPU time of the last render, in seconds, less the draw itself: updating the octree,
+   * finding the drawn ranges, comparing the cut state with the GPU's copy and handing the
+   * changed spans (and, once per octree, the resident arrays) to the driver. With the
+   * selector's GetSelectTime() it is what the GPU path costs the CPU per frame.
+   */
+  vtkGetMacro(LastCPUTime, double);
+
+  /**
    * True when `window`'s OpenGL context has what the mapper needs; otherwise false, and
    * GetUnsupportedReason() names the missing feature. The window must have been rendered once.
    */
@@ -155,6 +163,7 @@ protected:
   vtkIdType LastStateUploadBytes = 0;
   vtkIdType NumberOfDrawnTriangles = 0;
   vtkIdType NumberOfRanges = 0;
+  double LastCPUTime = 0;
   std::string UnsupportedReason;
   std::string SimulatedMissingFeature;
   std::string RendererName;

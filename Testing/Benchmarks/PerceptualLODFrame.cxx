@@ -365,6 +365,7 @@ struct Row
   double LODPoints = 0, LODFolds = 0; // the cut's output points and turned-over triangles
   // the LOD actor's GPU path (vtkPerceptualLODMapper)
   double GPUSelectMs = 0, GPUMs = 0, GPUTriangles = 0, GPUStillMs = 0, GPUUploadKB = 0;
+  double GPUCPUMs = 0;      // the GPU path's CPU work: select, ranges, state compare and upload
   bool GPUFellBack = false; // the GPU path drew through the CPU path
   double OtherCores = -1;   // CPU used by other processes meanwhile, in cores (-1: unknown)
   int Frames = 0;
@@ -398,7 +399,8 @@ Row MeasureView(double distance, int frames, int skipped, const double center[3]
   camera->Dolly(camera->GetDistance() / distance);
   vtkMultiscalePatchGenerator* patches = cpu->GetPatchGenerator();
   std::vector<double> ms[METHODS], stillMs[METHODS];
-  std::vector<double> selectMs, patchMs, drawn, points, folds, gpuSelectMs, gpuDrawn, gpuKB;
+  std::vector<double> selectMs, patchMs, drawn, points, folds, gpuSelectMs, gpuDrawn, gpuKB,
+    gpuCPUMs;
   int changedWhileStill = 0;
   bool fellBack = false;
   OtherLoad others;
@@ -424,6 +426,7 @@ Row MeasureView(double distance, int frames, int skipped, const double center[3]
     const double patch = patches->GetGenerateTime();
     const double gpuSelect = gpu->GetSelector()->GetSelectTime();
     const double gpuUploadKB = double(gpu->GetGPUMapper()->GetLastUploadBytes()) / 1024.0;
+    const double gpuCPU = gpuSelect + gpu->GetGPUMapper()->GetLastCPUTime();
     fellBack = fellBack || !gpu->GetDrewOnGPU();
     // Each LOD's pose again: nothing is selected or uploaded, the frame only draws the cut. The
     // moving frame less this, the selection and the patches is what sending the new cut costs.
@@ -456,6 +459,7 @@ Row MeasureView(double distance, int frames, int skipped, const double center[3]
     gpuSelectMs.push_back(1e3 * gpuSelect);
     gpuDrawn.push_back(double(gpu->GetGPUMapper()->GetNumberOfDrawnTriangles()));
     gpuKB.push_back(gpuUploadKB);
+    gpuCPUMs.push_back(1e3 * gpuCPU);
   }
   if (changedWhileStill > 0)
   {
@@ -478,6 +482,7 @@ Row MeasureView(double distance, int frames, int skipped, const double center[3]
   row.GPUSelectMs = Median(gpuSelectMs);
   row.GPUTriangles = Median(gpuDrawn);
   row.GPUUploadKB = Median(gpuKB);
+  row.GPUCPUMs = Median(gpuCPUMs);
   row.GPUFellBack = fellBack;
   return row;
 }
@@ -490,6 +495,7 @@ int main(int argc, char* argv[])
   int width = 1920, height = 1080;
   std::string csv;
   double maxOtherCores = 0.25;
+  vtkIdType budget = 0;
   int retries = 2;
   for (int i = 1; i < argc; ++i)
   {
@@ -524,6 +530,10 @@ int main(int argc, char* argv[])
     {
       csv = argv[++i];
     }
+    else if (a == "--budget" && i + 1 < argc)
+    {
+      budget = std::atoll(argv[++i]);
+    }
     else if (a == "--busy" && i + 2 < argc)
     {
       maxOtherCores = std::atof(argv[++i]);
@@ -533,11 +543,12 @@ int main(int argc, char* argv[])
     {
       std::fprintf(stderr,
         "usage: %s [--levels 2,3,4] [--frames 20] [--size 1920 1080] [--csv file.csv]\n"
-        "          [--busy 0.25 2]\n"
+        "          [--busy 0.25 2] [--budget 0]\n"
         "  levels: how many times the bunny is subdivided (0..4: 69k, about 0.28M, 1.1M, 4.4M "
         "and 17.8M triangles)\n"
         "  busy: a view during which other processes used more than this many cores is measured "
-        "again, at most this many times\n",
+        "again, at most this many times\n"
+        "  budget: the LOD actors' triangle budget (0: none, the tolerance cut)\n",
         argv[0]);
       return 2;
     }
@@ -649,6 +660,8 @@ int main(int argc, char* argv[])
     cpu->SetDrawPathToCPU();
     gpu->SetInputConnection(builder->GetOutputPort());
     gpu->SetDrawPathToGPU();
+    cpu->GetSelector()->SetTriangleBudget(budget);
+    gpu->GetSelector()->SetTriangleBudget(budget);
 
     fullRenderer->AddActor(full);
     cpuRenderer->AddActor(cpu);
@@ -706,9 +719,9 @@ int main(int argc, char* argv[])
       std::printf("        LOD: %.0f points, %.0f turned-over triangles; full mesh: %lld points\n",
         row.LODPoints, row.LODFolds, static_cast<long long>(model->GetNumberOfPoints()));
       std::printf("        LOD with the camera still: %.1f ms\n", row.StillMs);
-      std::printf("        GPU path: %.1f ms (select %.2f), %.0f triangles, %.1f KB sent; "
-                  "camera still: %.1f ms%s\n",
-        row.GPUMs, row.GPUSelectMs, row.GPUTriangles, row.GPUUploadKB, row.GPUStillMs,
+      std::printf("        GPU path: %.1f ms (select %.2f, CPU in all %.2f), %.0f triangles, "
+                  "%.1f KB sent; camera still: %.1f ms%s\n",
+        row.GPUMs, row.GPUSelectMs, row.GPUCPUMs, row.GPUTriangles, row.GPUUploadKB, row.GPUStillMs,
         row.GPUFellBack ? "; FELL BACK TO THE CPU PATH" : "");
       std::printf(
         "        other processes used %.2f cores; %s\n", row.OtherCores, LoadAverage().c_str());
@@ -742,17 +755,18 @@ int main(int argc, char* argv[])
   std::printf("\nWhere the LOD's moving frames go (ms; still: the same pose drawn again, nothing "
               "selected or sent; rest = frame - select - patch - still):\n\n");
   std::printf("| model triangles | view | CPU path frame | select | patch | rest | still | GPU "
-              "path frame | select | rest | still | GPU path KB sent | other processes (cores) "
-              "|\n");
+              "path frame | select | rest | still | GPU path CPU | GPU path KB sent | other "
+              "processes (cores) |\n");
   std::printf("| ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: "
-              "| ---: |\n");
+              "| ---: | ---: |\n");
   for (const Row& r : rows)
   {
     std::printf("| %.0f | %s | %.1f | %.2f | %.2f | %.1f | %.1f | %.1f | %.2f | %.1f | %.1f | "
-                "%.1f | %.2f |\n",
+                "%.2f | %.1f | %.2f |\n",
       r.ModelTriangles, r.View.c_str(), r.LODMs, r.SelectMs, r.PatchMs,
       r.LODMs - r.SelectMs - r.PatchMs - r.StillMs, r.StillMs, r.GPUMs, r.GPUSelectMs,
-      r.GPUMs - r.GPUSelectMs - r.GPUStillMs, r.GPUStillMs, r.GPUUploadKB, r.OtherCores);
+      r.GPUMs - r.GPUSelectMs - r.GPUStillMs, r.GPUStillMs, r.GPUCPUMs, r.GPUUploadKB,
+      r.OtherCores);
   }
   if (!csv.empty())
   {
@@ -766,7 +780,8 @@ int main(int argc, char* argv[])
     out << "model_triangles,view,full_frame_ms,lod_select_ms,lod_patch_ms,lod_frame_ms,"
            "lod_triangles,speedup,gpu_frame_ms,gpu_triangles,gpu_speedup,lod_still_frame_ms,"
            "lod_points,lod_folds,gpu_select_ms,gpu_still_frame_ms,gpu_upload_kb,gpu_fell_back,"
-           "other_cpu_cores,attempts,frames,width,height,empty_frame_ms,renderer\n";
+           "other_cpu_cores,attempts,frames,width,height,empty_frame_ms,renderer,gpu_cpu_ms,"
+           "budget\n";
     for (const Row& r : rows)
     {
       out << r.ModelTriangles << "," << r.View << "," << r.FullMs << "," << r.SelectMs << ","
@@ -776,7 +791,7 @@ int main(int argc, char* argv[])
           << r.LODPoints << "," << r.LODFolds << "," << r.GPUSelectMs << "," << r.GPUStillMs << ","
           << r.GPUUploadKB << "," << r.GPUFellBack << "," << r.OtherCores << "," << r.Attempts
           << "," << r.Frames << "," << width << "," << height << "," << emptyFrameMs << ",\""
-          << RendererName(gl) << "\"\n";
+          << RendererName(gl) << "\"," << r.GPUCPUMs << "," << budget << "\n";
     }
   }
   return 0;
