@@ -245,73 +245,93 @@ int vtkPerceptualLODSelector::RequestData(
   vtkMultiscaleOctree* input = vtkMultiscaleOctree::GetData(inputVector[0]);
   vtkMultiscaleOctree* output = vtkMultiscaleOctree::GetData(outputVector);
   this->EmptyCutReason.clear();
-  if (!input || input->GetNumberOfNodes() == 0)
-  {
-    output->Initialize();
-    this->Internal->Reset();
-    this->NumberOfVisitedNodes = this->NumberOfCutNodes = this->NumberOfDrawnNodes = 0;
-    this->NumberOfOpenedLeaves = 0;
-    this->NumberOfFoveationFactors = 0;
-    this->BudgetWasBinding = false;
-    this->NumberOfBudgetTriangles = 0;
-    this->NumberOfWaitingTriangles = 0;
-    this->EmptyCutReason = "the octree is empty";
-    return 1;
-  }
   plod::OctreeView view;
   vtkMTimeType viewStamp = 0;
+  if (!this->TakeOctree(input, view, viewStamp))
   {
-    std::string why;
-    if (!input->GetCheckedView(view, &viewStamp, &why))
-    {
-      vtkErrorMacro("The input octree is invalid (" << why << "): empty output.");
-      output->Initialize();
-      this->Internal->Reset();
-      this->EmptyCutReason = "the input octree is invalid";
-      return 1;
-    }
-  }
-  const auto start = std::chrono::steady_clock::now();
-
-  // ---- parameters: check them before touching anything ---------------------------------------
-  if (!(this->ViewportSize[0] > 0 && this->ViewportSize[1] > 0))
-  {
-    // its own message: a zero-size viewport (a hidden or collapsed window) is no camera problem
-    vtkErrorMacro("Invalid input: the viewport size is " << this->ViewportSize[0] << " x "
-                                                         << this->ViewportSize[1]
-                                                         << " pixels; width and height must be "
-                                                            "positive; the previous cut is kept.");
-    this->Internal->RestoreLastCut(output);
+    output->Initialize();
     return 1;
   }
-  const char* problem = nullptr;
-  if (!this->ParallelProjection && !this->UsePhysicalDisplay &&
-    !(this->ViewAngle > 0 && this->ViewAngle < 180))
-    problem = "the view angle must be in (0, 180) degrees";
-  else if (this->ParallelProjection &&
-    !(this->ParallelScale > 0 && std::isfinite(this->ParallelScale)))
-    problem = "the parallel scale must be positive and finite";
-  else if (this->UsePhysicalDisplay &&
-    !(this->PixelPitch > 0 && this->ViewingDistance > 0 && std::isfinite(this->ViewingDistance)))
-    problem = "pixel pitch and viewing distance must be positive and finite";
-  else if (!Finite(this->ObjectToWorldMatrix, 16) || !Finite(this->ObjectToViewMatrix, 16) ||
-    !Finite(this->PreviousObjectToViewMatrix, 16))
-    problem = "a matrix has a NaN or infinite entry";
-  else if (!std::isfinite(this->PreviousFrameTime) || this->PreviousFrameTime < 0 ||
-    !std::isfinite(this->FrameInterval) || this->FrameInterval < 0)
-    problem = "frame times must be finite and non-negative";
-  else if (!(this->InverseVelocitySpeed > 0) || !(this->DirectVelocitySpeed > 0) ||
-    !std::isfinite(this->PSECFactor) || !(this->PSECFactor > 0) ||
-    !(this->DistancePixelThreshold > 0))
-    problem = "IPV/DPV speeds, the PSEC factor and the pixel threshold must be positive";
-  if (problem)
+  const auto start = std::chrono::steady_clock::now();
+  // the parameters checked before anything is touched: a bad one keeps the previous cut
+  plod::SelectionInput in;
+  std::string problem = this->CheckParameters();
+  if (problem.empty())
+  {
+    problem = this->MakeSelectionInput(input, view, in);
+  }
+  if (!problem.empty())
   {
     vtkErrorMacro("Invalid input: " << problem << "; the previous cut is kept.");
     this->Internal->RestoreLastCut(output);
     return 1;
   }
+  plod::SelectionStats stats;
+  this->Select(view, viewStamp, in, stats);
+  this->MakeOutput(input, in, output);
+  this->ExplainEmptyCut(in, stats);
+  this->SelectTime =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  this->RecordFigures(stats);
+  return 1;
+}
 
-  plod::SelectionInput in;
+//------------------------------------------------------------------------------
+bool vtkPerceptualLODSelector::TakeOctree(
+  vtkMultiscaleOctree* input, plod::OctreeView& view, vtkMTimeType& viewStamp)
+{
+  if (!input || input->GetNumberOfNodes() == 0)
+  {
+    this->Internal->Reset();
+    this->RecordFigures(plod::SelectionStats());
+    this->EmptyCutReason = "the octree is empty";
+    return false;
+  }
+  std::string why;
+  if (!input->GetCheckedView(view, &viewStamp, &why))
+  {
+    vtkErrorMacro("The input octree is invalid (" << why << "): empty output.");
+    this->Internal->Reset();
+    this->EmptyCutReason = "the input octree is invalid";
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkPerceptualLODSelector::CheckParameters()
+{
+  if (!(this->ViewportSize[0] > 0 && this->ViewportSize[1] > 0))
+  {
+    // its own message: a zero-size viewport (a hidden or collapsed window) is no camera problem
+    return "the viewport size is " + std::to_string(this->ViewportSize[0]) + " x " +
+      std::to_string(this->ViewportSize[1]) + " pixels; width and height must be positive";
+  }
+  if (!this->ParallelProjection && !this->UsePhysicalDisplay &&
+    !(this->ViewAngle > 0 && this->ViewAngle < 180))
+    return "the view angle must be in (0, 180) degrees";
+  if (this->ParallelProjection && !(this->ParallelScale > 0 && std::isfinite(this->ParallelScale)))
+    return "the parallel scale must be positive and finite";
+  if (this->UsePhysicalDisplay &&
+    !(this->PixelPitch > 0 && this->ViewingDistance > 0 && std::isfinite(this->ViewingDistance)))
+    return "pixel pitch and viewing distance must be positive and finite";
+  if (!Finite(this->ObjectToWorldMatrix, 16) || !Finite(this->ObjectToViewMatrix, 16) ||
+    !Finite(this->PreviousObjectToViewMatrix, 16))
+    return "a matrix has a NaN or infinite entry";
+  if (!std::isfinite(this->PreviousFrameTime) || this->PreviousFrameTime < 0 ||
+    !std::isfinite(this->FrameInterval) || this->FrameInterval < 0)
+    return "frame times must be finite and non-negative";
+  if (!(this->InverseVelocitySpeed > 0) || !(this->DirectVelocitySpeed > 0) ||
+    !std::isfinite(this->PSECFactor) || !(this->PSECFactor > 0) ||
+    !(this->DistancePixelThreshold > 0))
+    return "IPV/DPV speeds, the PSEC factor and the pixel threshold must be positive";
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string vtkPerceptualLODSelector::MakeSelectionInput(
+  vtkMultiscaleOctree* input, const plod::OctreeView& view, plod::SelectionInput& in)
+{
   in.Error = static_cast<plod::ErrorModel>(this->ErrorModel);
   in.Motion = static_cast<plod::MotionModel>(this->MotionModel);
   in.Velocity = static_cast<plod::VelocityCriterion>(this->VelocityCriterion);
@@ -335,8 +355,22 @@ int vtkPerceptualLODSelector::RequestData(
   in.FoveationRate = this->FoveationRate;
   in.FoveationWeights[0] = this->FoveationWeights[0];
   in.FoveationWeights[1] = this->FoveationWeights[1];
-
   // the view model (plodViewModel.h): camera, lights and motion into octree-local terms
+  const plod::FrameViewResult framed =
+    plod::MakeFrameView(this->MakeFrame(), view.Origin, view.RootEdge, view.FinestLevel, in);
+  if (!framed.Ok)
+  {
+    return framed.Error;
+  }
+  this->ObjectSpeed = framed.ObjectSpeed;
+  this->DistanceLevel = framed.DistanceLevel;
+  std::string why;
+  return plod::ValidateSelectionInput(in, &why) ? std::string() : why;
+}
+
+//------------------------------------------------------------------------------
+plod::FrameView vtkPerceptualLODSelector::MakeFrame()
+{
   plod::FrameView frame;
   frame.CoordinatesAreWorld = this->CoordinatesAreWorld;
   std::copy(this->ObjectToWorldMatrix, this->ObjectToWorldMatrix + 16, frame.ObjectToWorld);
@@ -369,27 +403,14 @@ int vtkPerceptualLODSelector::RequestData(
   frame.InverseVelocitySpeed = this->InverseVelocitySpeed;
   frame.DirectVelocitySpeed = this->DirectVelocitySpeed;
   frame.DistancePixelThreshold = this->DistancePixelThreshold;
-  const plod::FrameViewResult framed =
-    plod::MakeFrameView(frame, view.Origin, view.RootEdge, view.FinestLevel, in);
-  if (!framed.Ok)
-  {
-    vtkErrorMacro("Invalid input: " << framed.Error << "; the previous cut is kept.");
-    this->Internal->RestoreLastCut(output);
-    return 1;
-  }
-  this->ObjectSpeed = framed.ObjectSpeed;
-  this->DistanceLevel = framed.DistanceLevel;
+  return frame;
+}
 
-  std::string why;
-  if (!plod::ValidateSelectionInput(in, &why))
-  {
-    vtkErrorMacro("Invalid input: " << why << "; the previous cut is kept.");
-    this->Internal->RestoreLastCut(output);
-    return 1;
-  }
-
-  // ---- caches follow the octree
-  // ------------------------------------------------------------------
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::Select(const plod::OctreeView& view, vtkMTimeType viewStamp,
+  const plod::SelectionInput& in, plod::SelectionStats& stats)
+{
+  // the kernel and the cut arrays follow the octree
   Internals& I = *this->Internal;
   if (I.ViewStamp != viewStamp || !I.State)
   {
@@ -407,7 +428,6 @@ int vtkPerceptualLODSelector::RequestData(
     I.ViewStamp = viewStamp;
     I.Prepared = nullptr;
   }
-  plod::SelectionStats stats;
   if (this->MultiThreaded && vtkSMPTools::GetEstimatedNumberOfThreads() > 1)
   {
     I.Kernel.SetParallelFor(
@@ -425,7 +445,14 @@ int vtkPerceptualLODSelector::RequestData(
   I.State->Modified();
   I.Reason->Modified();
   I.CullMask->Modified();
+}
 
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::MakeOutput(
+  vtkMultiscaleOctree* input, const plod::SelectionInput& in, vtkMultiscaleOctree* output)
+{
+  // the input's arrays with the cut's, made once per input
+  Internals& I = *this->Internal;
   if (!I.Prepared || I.Input != input || I.InputTime != input->GetMTime())
   {
     I.Prepared = vtkSmartPointer<vtkMultiscaleOctree>::New();
@@ -436,8 +463,6 @@ int vtkPerceptualLODSelector::RequestData(
       nodes->RemoveArray(a->GetName());
       nodes->AddArray(a);
     }
-    // the view the cut was made for, in octree-local coordinates, for the patch generator's
-    // per-triangle back-face culling (only when back faces are hidden)
     I.CutView = vtkSmartPointer<vtkDoubleArray>::New();
     I.CutView->SetName(vtkMultiscaleOctree::CutViewArrayName());
     I.CutView->SetNumberOfValues(8);
@@ -451,19 +476,26 @@ int vtkPerceptualLODSelector::RequestData(
     I.Input = input;
     I.InputTime = input->GetMTime();
   }
+  // the view the cut was made for, in octree-local coordinates, for the patch generator's
+  // per-triangle back-face culling (only when back faces are hidden)
+  double* cutView = I.CutView->GetPointer(0);
+  for (int a = 0; a < 3; ++a)
   {
-    double* cutView = I.CutView->GetPointer(0);
-    for (int a = 0; a < 3; ++a)
-    {
-      cutView[a] = in.Eye[a];
-      cutView[4 + a] = in.ProjectionDirection[a];
-    }
-    cutView[3] = in.Parallel ? 1.0 : 0.0;
-    cutView[7] = in.HideBackFaces ? 1.0 : 0.0;
-    I.CutView->Modified();
+    cutView[a] = in.Eye[a];
+    cutView[4 + a] = in.ProjectionDirection[a];
   }
+  cutView[3] = in.Parallel ? 1.0 : 0.0;
+  cutView[7] = in.HideBackFaces ? 1.0 : 0.0;
+  I.CutView->Modified();
   output->ShallowCopy(I.Prepared);
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::ExplainEmptyCut(
+  const plod::SelectionInput& in, const plod::SelectionStats& stats)
+{
   // a cut that draws nothing says why (the root alone is one point: no triangle)
+  Internals& I = *this->Internal;
   const uint8_t rootState = I.State->GetValue(0);
   if (stats.Drawn == 0)
   {
@@ -488,8 +520,11 @@ int vtkPerceptualLODSelector::RequestData(
   {
     vtkDebugMacro("The cut draws nothing: " << this->EmptyCutReason << ".");
   }
-  this->SelectTime =
-    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODSelector::RecordFigures(const plod::SelectionStats& stats)
+{
   this->NumberOfVisitedNodes = stats.Visited;
   this->NumberOfCutNodes = stats.InCut;
   this->NumberOfDrawnNodes = stats.Drawn;
@@ -499,7 +534,6 @@ int vtkPerceptualLODSelector::RequestData(
   this->BudgetWasBinding = stats.BudgetBinding;
   this->NumberOfBudgetTriangles = stats.BudgetTriangles;
   this->NumberOfWaitingTriangles = stats.BudgetWaitingTriangles;
-  return 1;
 }
 
 //------------------------------------------------------------------------------

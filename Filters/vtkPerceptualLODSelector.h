@@ -109,6 +109,15 @@
 #include <memory> // for the internals
 #include <string> // for the empty-cut reason
 
+class vtkMultiscaleOctree;
+namespace plod
+{
+struct FrameView;
+struct OctreeView;
+struct SelectionInput;
+struct SelectionStats;
+}
+
 class PERCEPTUALLODFILTERS_EXPORT vtkPerceptualLODSelector : public vtkMultiscaleOctreeAlgorithm
 {
 public:
@@ -513,6 +522,29 @@ protected:
   ~vtkPerceptualLODSelector() override;
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  ///@{
+  /// The steps of RequestData.
+  /// The input's checked view; false (the output to be emptied) for an empty or invalid octree.
+  bool TakeOctree(vtkMultiscaleOctree* input, plod::OctreeView& view, vtkMTimeType& viewStamp);
+  /// What is wrong with the parameters ("" when nothing).
+  std::string CheckParameters();
+  /// The kernel's input from the settings and the view model; what is wrong ("" when nothing).
+  std::string MakeSelectionInput(
+    vtkMultiscaleOctree* input, const plod::OctreeView& view, plod::SelectionInput& in);
+  /// The view model's input (plodViewModel.h) from the camera, lights and motion settings.
+  plod::FrameView MakeFrame();
+  /// The kernel's walk into the cut arrays (made again when the octree changed).
+  void Select(const plod::OctreeView& view, vtkMTimeType viewStamp, const plod::SelectionInput& in,
+    plod::SelectionStats& stats);
+  /// The output: the input's arrays, the cut's, and the view the cut was made for.
+  void MakeOutput(
+    vtkMultiscaleOctree* input, const plod::SelectionInput& in, vtkMultiscaleOctree* output);
+  /// EmptyCutReason for a cut that draws no triangle.
+  void ExplainEmptyCut(const plod::SelectionInput& in, const plod::SelectionStats& stats);
+  /// The figures of the Get...() methods from the walk's.
+  void RecordFigures(const plod::SelectionStats& stats);
+  ///@}
 
   int ErrorModel;
   int MotionModel;

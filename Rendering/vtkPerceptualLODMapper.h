@@ -81,10 +81,11 @@ public:
   ///@}
 
   /**
-   * The CPU time of the last render, in seconds, less the draw itself: updating the octree,
-   * finding the drawn ranges, comparing the cut state with the GPU's copy and handing the
-   * changed spans (and, once per octree, the resident arrays) to the driver. With the
-   * selector's GetSelectTime() it is what the GPU path costs the CPU per frame.
+   * The CPU time of the last render, in seconds, less the draw itself and the octree's update
+   * (the selector's run, which vtkPerceptualLODSelector::GetSelectTime() gives, and the
+   * surface made once per octree): finding the drawn ranges, comparing the cut state with the
+   * GPU's copy and handing the changed spans (and, once per octree, the resident arrays) to
+   * the driver. With the selector's time it is what the GPU path costs the CPU per frame.
    */
   vtkGetMacro(LastCPUTime, double);
 

@@ -272,31 +272,38 @@ std::vector<Crossing> SignChanges(const Cloud& C, const ParallelFor& pfor, Repor
 
 } // namespace
 
-bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const ParallelFor& pfor,
-  Reporter& report, CloudMesh& out, BuildResult& result)
+namespace
 {
-  report.Phase("cloud scan", 0.0, 0.02);
+/// Coordinate `a` of input point `i`, in double.
+double Coordinate(const BuildInput& in, int64_t i, int a)
+{
+  return in.Points ? in.Points[3 * i + a] : double(in.PointsFloat[3 * i + a]);
+}
+
+/// The finite points' indices, and the root cube (the caller's, which must hold them, or one
+/// placed around them) into `out`. False with result.Error set.
+bool PlaceCloud(const BuildInput& in, const BuildParameters& params, CloudMesh& out,
+  BuildResult& result, std::vector<int64_t>& finite)
+{
   const int64_t np = in.NumberOfPoints;
-  auto X = [&in](int64_t i, int a) {
-    return in.Points ? in.Points[3 * i + a] : double(in.PointsFloat[3 * i + a]);
-  };
   double lo[3], hi[3];
   for (int a = 0; a < 3; ++a)
   {
     lo[a] = std::numeric_limits<double>::max();
     hi[a] = -std::numeric_limits<double>::max();
   }
-  std::vector<int64_t> finite;
+  finite.clear();
   finite.reserve(np);
   for (int64_t i = 0; i < np; ++i)
   {
-    if (std::isfinite(X(i, 0)) && std::isfinite(X(i, 1)) && std::isfinite(X(i, 2)))
+    const double x[3] = { Coordinate(in, i, 0), Coordinate(in, i, 1), Coordinate(in, i, 2) };
+    if (std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]))
     {
       finite.push_back(i);
       for (int a = 0; a < 3; ++a)
       {
-        lo[a] = std::min(lo[a], X(i, a));
-        hi[a] = std::max(hi[a], X(i, a));
+        lo[a] = std::min(lo[a], x[a]);
+        hi[a] = std::max(hi[a], x[a]);
       }
     }
   }
@@ -311,46 +318,44 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
     result.Warnings.push_back(std::to_string(result.NumberOfNonFinitePoints) +
       " point(s) with NaN or infinite coordinates skipped");
   }
-  if (params.HasRootCube)
+  if (!params.HasRootCube)
   {
-    // the caller's cube (validated by BuildOctree), which must hold every finite point
-    std::copy(params.RootOrigin, params.RootOrigin + 3, out.Origin);
-    out.RootEdge = params.RootEdge;
-    if (!InsideRootCube(lo, out.Origin, out.RootEdge) ||
-      !InsideRootCube(hi, out.Origin, out.RootEdge))
-    {
-      for (int64_t i : finite)
-      {
-        const double x[3] = { X(i, 0), X(i, 1), X(i, 2) };
-        if (!InsideRootCube(x, out.Origin, out.RootEdge))
-        {
-          result.Error = PointOutsideRootCube(i, x, out.Origin, out.RootEdge);
-          return false;
-        }
-      }
-    }
+    return PlaceRootCube(lo, hi, out.Origin, out.RootEdge, &result.Error);
   }
-  else
+  // the caller's cube (validated by BuildOctree), which must hold every finite point
+  std::copy(params.RootOrigin, params.RootOrigin + 3, out.Origin);
+  out.RootEdge = params.RootEdge;
+  if (InsideRootCube(lo, out.Origin, out.RootEdge) && InsideRootCube(hi, out.Origin, out.RootEdge))
   {
-    std::string why;
-    if (!PlaceRootCube(lo, hi, out.Origin, out.RootEdge, &why))
+    return true;
+  }
+  for (int64_t i : finite)
+  {
+    const double x[3] = { Coordinate(in, i, 0), Coordinate(in, i, 1), Coordinate(in, i, 2) };
+    if (!InsideRootCube(x, out.Origin, out.RootEdge))
     {
-      result.Error = why;
+      result.Error = PointOutsideRootCube(i, x, out.Origin, out.RootEdge);
       return false;
     }
   }
+  return true;
+}
 
-  // level: from the occupied cells of every level
-  report.Phase("cloud level", 0.02, 0.06);
+/// The finite points sorted by their finest-level cell (`items`: key, input index), and the
+/// level to contour at (the user's, or the cloud rule's from the occupied cells of every
+/// level) into out.Level. False with result.Error set.
+bool ChooseCloudLevel(const BuildInput& in, const BuildParameters& params, const ParallelFor& pfor,
+  const std::vector<int64_t>& finite, CloudMesh& out, BuildResult& result, std::vector<Item>& items)
+{
   const int64_t n = static_cast<int64_t>(finite.size());
-  std::vector<Item> items(n);
+  items.resize(n);
   const CellQuantizer grid(out.Origin, out.RootEdge);
   for (int64_t r = 0; r < n; ++r)
   {
     const int64_t i = finite[r];
-    items[r] = { grid.Key(X(i, 0), X(i, 1), X(i, 2)), uint64_t(i) };
+    items[r] = { grid.Key(Coordinate(in, i, 0), Coordinate(in, i, 1), Coordinate(in, i, 2)),
+      uint64_t(i) };
   }
-  std::vector<int64_t>().swap(finite);
   RadixSort(items, 3 * MaxFinestLevel, pfor);
   int64_t cells[MaxFinestLevel + 1];
   CountOccupiedCells(
@@ -370,22 +375,22 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
     return false;
   }
   out.Level = level;
-  if (!report(1.0))
-  {
-    return false;
-  }
+  return true;
+}
 
-  // the cloud in grid units of its level
-  report.Phase("cloud normals", 0.06, 0.2);
-  Cloud C;
+/// The cloud in grid units of out.Level, in the order of `items`, with the input's normals
+/// where it has them (unit length; zero where missing or degenerate).
+void MakeCloud(const BuildInput& in, const CloudMesh& out, const std::vector<Item>& items, Cloud& C)
+{
+  const int64_t n = static_cast<int64_t>(items.size());
   C.NumberOfPoints = n;
-  C.Cells = 1u << level;
+  C.Cells = 1u << out.Level;
   const double h = out.RootEdge / double(C.Cells);
   C.U.resize(3 * n);
   C.Key.resize(n);
   C.Source.resize(n);
   C.Normal.assign(3 * n, 0.0f);
-  const int shift = 3 * (MaxFinestLevel - level);
+  const int shift = 3 * (MaxFinestLevel - out.Level);
   for (int64_t r = 0; r < n; ++r)
   {
     const int64_t i = static_cast<int64_t>(items[r].Ref);
@@ -393,7 +398,7 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
     C.Key[r] = items[r].Key >> shift;
     for (int a = 0; a < 3; ++a)
     {
-      C.U[3 * r + a] = (X(i, a) - out.Origin[a]) / h;
+      C.U[3 * r + a] = (Coordinate(in, i, a) - out.Origin[a]) / h;
     }
     if (in.PointNormals)
     {
@@ -414,59 +419,47 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
     }
   }
   C.CellStart.push_back(n);
-  std::vector<Item>().swap(items);
-  {
-    double centroid[3] = { 0, 0, 0 };
-    for (int64_t r = 0; r < n; ++r)
-      for (int a = 0; a < 3; ++a)
-        centroid[a] += C.U[3 * r + a] / double(n);
-    double vp[3];
+}
+
+/// The cloud's normals (EstimateNormals) oriented towards the point's own viewpoint, the
+/// cloud's viewpoint, or away from the centroid, in that order of preference.
+bool OrientNormals(
+  const BuildInput& in, const CloudMesh& out, const ParallelFor& pfor, Reporter& report, Cloud& C)
+{
+  const int64_t n = C.NumberOfPoints;
+  const double h = out.RootEdge / double(C.Cells);
+  double centroid[3] = { 0, 0, 0 };
+  for (int64_t r = 0; r < n; ++r)
     for (int a = 0; a < 3; ++a)
-      vp[a] = (in.Viewpoint[a] - out.Origin[a]) / h;
-    const bool ok = EstimateNormals(C, pfor, report, [&](int64_t r, double t[3]) {
-      const double* x = &C.U[3 * r];
-      for (int a = 0; a < 3; ++a)
-      {
-        if (in.PointViewpoints)
-        {
-          t[a] = (in.PointViewpoints[3 * C.Source[r] + a] - out.Origin[a]) / h - x[a];
-        }
-        else
-        {
-          t[a] = in.HasViewpoint ? vp[a] - x[a] : x[a] - centroid[a];
-        }
-        if (!std::isfinite(t[a]))
-        {
-          t[a] = 0;
-        }
-      }
-    });
-    if (!ok)
+      centroid[a] += C.U[3 * r + a] / double(n);
+  double vp[3];
+  for (int a = 0; a < 3; ++a)
+    vp[a] = (in.Viewpoint[a] - out.Origin[a]) / h;
+  return EstimateNormals(C, pfor, report, [&](int64_t r, double t[3]) {
+    const double* x = &C.U[3 * r];
+    for (int a = 0; a < 3; ++a)
     {
-      return false;
+      if (in.PointViewpoints)
+      {
+        t[a] = (in.PointViewpoints[3 * C.Source[r] + a] - out.Origin[a]) / h - x[a];
+      }
+      else
+      {
+        t[a] = in.HasViewpoint ? vp[a] - x[a] : x[a] - centroid[a];
+      }
+      if (!std::isfinite(t[a]))
+      {
+        t[a] = 0;
+      }
     }
-  }
-  if (!report(1.0))
-  {
-    return false;
-  }
+  });
+}
 
-  // sign changes of the signed distance
-  report.Phase("cloud distance", 0.2, 0.3);
-  std::vector<Crossing> crossings = SignChanges(C, pfor, report);
-  if (report.Aborted())
-  {
-    return false;
-  }
-  if (crossings.empty())
-  {
-    result.Error = "the point cloud gives no surface at level " + std::to_string(level) +
-      " (its signed distance never changes sign: too few points, or a finer level is needed)";
-    return false;
-  }
-
-  // one vertex per cell next to a sign change: the four cells around each crossed edge
-  report.Phase("cloud contour", 0.3, 0.35);
+/// The vertex of each of the four cells around every crossing: `vertexOf[4 x + slot]` indexes
+/// `vertexKey`, the cells' Morton keys at the contour level, each cell once.
+void CellsAroundCrossings(const std::vector<Crossing>& crossings, int level,
+  const ParallelFor& pfor, std::vector<uint64_t>& vertexKey, std::vector<int64_t>& vertexOf)
+{
   std::vector<Item> around(4 * crossings.size());
   for (size_t x = 0; x < crossings.size(); ++x)
   {
@@ -484,8 +477,8 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
     }
   }
   RadixSort(around, 3 * level, pfor);
-  std::vector<uint64_t> vertexKey;
-  std::vector<int64_t> vertexOf(around.size());
+  vertexKey.clear();
+  vertexOf.resize(around.size());
   for (size_t i = 0; i < around.size(); ++i)
   {
     if (vertexKey.empty() || vertexKey.back() != around[i].Key)
@@ -494,7 +487,16 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
     }
     vertexOf[around[i].Ref] = static_cast<int64_t>(vertexKey.size()) - 1;
   }
+}
+
+/// Each cell's vertex: the mean of its crossings, kept inside the cell so that the vertex gets
+/// its own leaf; its normal, the mean of the crossings' normals; its material range, from the
+/// crossings' source points (or the uniform material where none has one).
+void PlaceVertices(const BuildInput& in, const Cloud& C, const std::vector<Crossing>& crossings,
+  const std::vector<uint64_t>& vertexKey, const std::vector<int64_t>& vertexOf, CloudMesh& out)
+{
   const int64_t nv = static_cast<int64_t>(vertexKey.size());
+  const double h = out.RootEdge / double(C.Cells);
   std::vector<double> sum(3 * nv, 0.0), nsum(3 * nv, 0.0);
   std::vector<int> count(nv, 0);
   const bool material = in.PointDiffuse || in.PointSpecular; // clouds carry material per point only
@@ -563,16 +565,30 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
       nsum[3 * v + 2] * nsum[3 * v + 2]);
     for (int a = 0; a < 3; ++a)
     {
-      // the mean of the crossings, kept inside the cell so that the vertex gets its own leaf
       double u = sum[3 * v + a] / count[v];
       u = std::min(std::max(u, c[a] + 1e-6), c[a] + 1 - 1e-6);
       out.Points[3 * v + a] = out.Origin[a] + u * h;
       out.Normals[3 * v + a] = len > 0 ? static_cast<float>(nsum[3 * v + a] / len) : 0.0f;
     }
   }
-  // one quad per crossed edge, counter-clockwise about the crossing's outward direction
+}
+
+/// One quad per crossed edge, counter-clockwise about the crossing's outward direction, split
+/// along its shorter diagonal.
+void MakeQuads(
+  const std::vector<Crossing>& crossings, const std::vector<int64_t>& vertexOf, CloudMesh& out)
+{
   out.Triangles.reserve(6 * crossings.size());
   const int ring[4] = { 0, 1, 3, 2 }; // slots in turn: (+p+q), (-p+q), (-p-q), (+p-q)
+  auto dist2 = [&out](int64_t i, int64_t j) {
+    double s = 0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double d = out.Points[3 * i + a] - out.Points[3 * j + a];
+      s += d * d;
+    }
+    return s;
+  };
   for (size_t x = 0; x < crossings.size(); ++x)
   {
     int64_t quad[4];
@@ -584,15 +600,6 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
     {
       std::swap(quad[1], quad[3]);
     }
-    auto dist2 = [&out](int64_t i, int64_t j) {
-      double s = 0;
-      for (int a = 0; a < 3; ++a)
-      {
-        const double d = out.Points[3 * i + a] - out.Points[3 * j + a];
-        s += d * d;
-      }
-      return s;
-    };
     const int64_t tris[2][3] = { { quad[0], quad[1], quad[2] }, { quad[0], quad[2], quad[3] } };
     const int64_t alt[2][3] = { { quad[0], quad[1], quad[3] }, { quad[1], quad[2], quad[3] } };
     const bool first = dist2(quad[0], quad[2]) <= dist2(quad[1], quad[3]);
@@ -604,6 +611,54 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
       }
     }
   }
+}
+} // namespace
+
+bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const ParallelFor& pfor,
+  Reporter& report, CloudMesh& out, BuildResult& result)
+{
+  report.Phase("cloud scan", 0.0, 0.02);
+  std::vector<int64_t> finite;
+  if (!PlaceCloud(in, params, out, result, finite))
+  {
+    return false;
+  }
+  report.Phase("cloud level", 0.02, 0.06);
+  std::vector<Item> items;
+  const bool placed = ChooseCloudLevel(in, params, pfor, finite, out, result, items);
+  std::vector<int64_t>().swap(finite);
+  if (!placed || !report(1.0))
+  {
+    return false;
+  }
+  report.Phase("cloud normals", 0.06, 0.2);
+  Cloud C;
+  MakeCloud(in, out, items, C);
+  std::vector<Item>().swap(items);
+  if (!OrientNormals(in, out, pfor, report, C) || !report(1.0))
+  {
+    return false;
+  }
+  report.Phase("cloud distance", 0.2, 0.3);
+  const std::vector<Crossing> crossings = SignChanges(C, pfor, report);
+  if (report.Aborted())
+  {
+    return false;
+  }
+  if (crossings.empty())
+  {
+    result.Error = "the point cloud gives no surface at level " + std::to_string(out.Level) +
+      " (its signed distance never changes sign: too few points, or a finer level is needed)";
+    return false;
+  }
+  // one vertex per cell next to a sign change (the four cells around each crossed edge), one
+  // quad per crossed edge
+  report.Phase("cloud contour", 0.3, 0.35);
+  std::vector<uint64_t> vertexKey;
+  std::vector<int64_t> vertexOf;
+  CellsAroundCrossings(crossings, out.Level, pfor, vertexKey, vertexOf);
+  PlaceVertices(in, C, crossings, vertexKey, vertexOf, out);
+  MakeQuads(crossings, vertexOf, out);
   return report(1.0);
 }
 
