@@ -65,7 +65,16 @@
 #include "PerceptualLODFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
-#include <memory> // for the workspace
+#include <cstdint> // for uint8_t
+#include <memory>  // for the workspace
+
+class vtkMultiscaleOctree;
+namespace plod
+{
+struct OctreeView;
+struct PatchOptions;
+struct PatchResult;
+}
 
 class PERCEPTUALLODFILTERS_EXPORT vtkMultiscalePatchGenerator : public vtkPolyDataAlgorithm
 {
@@ -172,6 +181,16 @@ protected:
   ~vtkMultiscalePatchGenerator() override;
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  ///@{
+  /// The steps of RequestData.
+  /// The input's cut, or full resolution (with a warning for a CutState of the wrong shape).
+  const uint8_t* TakeCut(vtkMultiscaleOctree* input, const plod::OctreeView& v);
+  /// The kernel's options: fold rule, back faces as the selector asked, threads.
+  plod::PatchOptions MakeOptions(vtkMultiscaleOctree* input);
+  /// The Get...() figures from the kernel's result and the time taken.
+  void RecordFigures(const plod::PatchResult& r, double seconds);
+  ///@}
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
   bool GenerateNormals;

@@ -377,6 +377,29 @@ private:
   bool NoteCoincidentPoints();
   bool FindPassingTriangles();
   bool ComputeCells();
+  // the steps of ComputeCells
+  bool ComputeLeavesAndParents(std::vector<CellSums>& child);
+  bool ComputeUpperCells(std::vector<CellSums>& child);
+  /// A leaf's cluster sums (into `sums`), vertices, normals, cone and material ranges.
+  void LeafCell(
+    int64_t leaf, std::vector<CellSums>& sums, std::vector<std::array<double, 3>>& normals);
+  /// An inner cell at level l (index i in the level), its clusters' sums gathered from its
+  /// children: its vertices, normals, cone and material ranges.
+  void InnerCell(int64_t node, int l, int64_t i, CellSums* sums, int clusters,
+    std::vector<std::array<double, 3>>& normals);
+  /// A node's own quantities (vertex, thickness) and its clusters' vertices and normals from
+  /// its clusters' sums; `total` receives their sum.
+  void FinishNode(
+    int64_t node, int level, uint64_t key, const CellSums* sums, int count, CellSums& total);
+  void StoreCone(int64_t node, const double axis[3], double theta, const Range& d, const Range& sp);
+  /// The passing triangles of `node` (FindPassingTriangles), and their normals and material.
+  std::pair<std::vector<std::pair<int32_t, int32_t>>::const_iterator,
+    std::vector<std::pair<int32_t, int32_t>>::const_iterator>
+  PassRange(int64_t node) const;
+  void AddPassing(
+    int64_t node, std::vector<std::array<double, 3>>& normals, Range& d, Range& sp) const;
+  /// The largest angle from `axis` to the normals.
+  static double Widest(const double axis[3], const std::vector<std::array<double, 3>>& normals);
   bool ComputeShapeErrors();
   bool MakeClusters();
   bool TightenCones();
@@ -1699,239 +1722,237 @@ bool MeshBuild::MakeClusters()
   return this->Report(1.0);
 }
 
-bool MeshBuild::ComputeCells()
+std::pair<std::vector<std::pair<int32_t, int32_t>>::const_iterator,
+  std::vector<std::pair<int32_t, int32_t>>::const_iterator>
+MeshBuild::PassRange(int64_t node) const
 {
-  this->Report.Phase("cells", 0.6, 0.8);
-  OctreeArrays& o = this->Out;
-  const float ud = this->S.UniformDiffuse, us = this->S.UniformSpecular;
-  auto passRange = [this](int64_t node) {
-    auto lo = std::lower_bound(this->Pass.begin(), this->Pass.end(),
-      std::make_pair(static_cast<int32_t>(node), std::numeric_limits<int32_t>::min()));
-    auto hi = lo;
-    while (hi != this->Pass.end() && hi->first == node)
-    {
-      ++hi;
-    }
-    return std::make_pair(lo, hi);
-  };
+  auto lo = std::lower_bound(this->Pass.begin(), this->Pass.end(),
+    std::make_pair(static_cast<int32_t>(node), std::numeric_limits<int32_t>::min()));
+  auto hi = lo;
+  while (hi != this->Pass.end() && hi->first == node)
+  {
+    ++hi;
+  }
+  return { lo, hi };
+}
+
+void MeshBuild::AddPassing(
+  int64_t node, std::vector<std::array<double, 3>>& normals, Range& d, Range& sp) const
+{
   // the triangles that pass through a node without a corner in it: they widen its cone and
   // its material range; they do not weigh in its axis (they would be counted again in every
   // cell they cross, and tilt the axes of the cells above)
-  auto addPassing = [&](int64_t node, std::vector<std::array<double, 3>>& normals, Range& d,
-                      Range& sp) {
-    const auto range = passRange(node);
-    for (auto it = range.first; it != range.second; ++it)
+  const auto range = this->PassRange(node);
+  for (auto it = range.first; it != range.second; ++it)
+  {
+    double n[3];
+    if (this->Face(it->second, n) > 0)
     {
-      double n[3];
-      if (this->Face(it->second, n) > 0)
-      {
-        normals.push_back({ n[0], n[1], n[2] });
-      }
-      this->TriangleMaterial(it->second, d, sp);
+      normals.push_back({ n[0], n[1], n[2] });
+    }
+    this->TriangleMaterial(it->second, d, sp);
+    for (int k = 0; k < 3; ++k)
+    {
+      this->Material(this->Out.Triangles[3 * it->second + k], d, sp);
+    }
+  }
+}
+
+double MeshBuild::Widest(const double axis[3], const std::vector<std::array<double, 3>>& normals)
+{
+  // the smallest dot product picks the normal, one accurate angle is computed from it
+  const std::array<double, 3>* far = nullptr;
+  double least = 2.0;
+  for (const auto& n : normals)
+  {
+    const double d = Dot(axis, n.data());
+    if (d < least)
+    {
+      least = d;
+      far = &n;
+    }
+  }
+  return far ? AngleBetween(axis, far->data()) : 0.0;
+}
+
+void MeshBuild::FinishNode(
+  int64_t node, int level, uint64_t key, const CellSums* sums, int count, CellSums& total)
+{
+  OctreeArrays& o = this->Out;
+  for (int k = 0; k < count; ++k)
+  {
+    total.Add(sums[k]);
+    const int64_t c = o.FirstCluster[node] + k;
+    this->PlaceVertex(sums[k], key, level, &o.ClusterVertex[3 * c]);
+    ShadingNormal(sums[k], &o.ClusterNormal[3 * c]);
+  }
+  if (count == 1)
+  {
+    // one cluster: the cell's sums are its sums, and so is its vertex
+    std::copy_n(&o.ClusterVertex[3 * o.FirstCluster[node]], 3, &o.Vertex[3 * node]);
+  }
+  else
+  {
+    this->PlaceVertex(total, key, level, &o.Vertex[3 * node]);
+  }
+  // only read for cells that are not topologically safe (known by now)
+  o.Thickness[node] = (o.Flags[node] & NodeTopologySafe)
+    ? 0.0f
+    : static_cast<float>(Thickness(total, total.Count) * this->Edge);
+}
+
+void MeshBuild::StoreCone(
+  int64_t node, const double axis[3], double theta, const Range& d, const Range& sp)
+{
+  OctreeArrays& o = this->Out;
+  for (int a = 0; a < 3; ++a)
+    o.ConeAxis[3 * node + a] = static_cast<float>(axis[a]);
+  o.ConeAngle[node] = static_cast<float>(theta);
+  d.Store(&o.DiffuseRange[2 * node], this->S.UniformDiffuse);
+  sp.Store(&o.SpecularRange[2 * node], this->S.UniformSpecular);
+}
+
+void MeshBuild::LeafCell(
+  int64_t leaf, std::vector<CellSums>& sums, std::vector<std::array<double, 3>>& normals)
+{
+  // its points and the triangles at them; `sums` receives the leaf's cluster sums
+  OctreeArrays& o = this->Out;
+  const int64_t cf = o.FirstCluster[leaf];
+  const int64_t end =
+    leaf + 1 < this->Nodes ? o.FirstCluster[leaf + 1] : this->ClusterOffset[this->L + 1];
+  const int count = static_cast<int>(end - cf);
+  sums.assign(count, CellSums());
+  Range d, sp;
+  normals.clear();
+  const int64_t p0 = o.FirstPoint[leaf], p1 = this->PointEnd(leaf);
+  for (int64_t p = p0; p < p1; ++p)
+  {
+    CellSums& s = sums[o.PointCluster[p] - cf];
+    double u[3];
+    this->Position(p, u);
+    s.AddPoint(u);
+    this->Material(p, d, sp);
+    auto bq = std::lower_bound(this->BoundaryQuadric.begin(), this->BoundaryQuadric.end(),
+      static_cast<int32_t>(p),
+      [](const std::pair<int32_t, Quadric>& x, int32_t k) { return x.first < k; });
+    if (bq != this->BoundaryQuadric.end() && bq->first == p)
+    {
+      s.Q.Add(bq->second);
+    }
+    for (int64_t j = this->IncStart[p]; j < this->IncStart[p + 1]; ++j)
+    {
+      const int32_t t = this->Inc[j];
+      const int32_t* c = &o.Triangles[3 * t];
+      int inside = 0, first = -1;
       for (int k = 0; k < 3; ++k)
       {
-        this->Material(o.Triangles[3 * it->second + k], d, sp);
+        if (o.PointLeaf[c[k]] == leaf)
+        {
+          ++inside;
+          first = first < 0 ? k : first;
+        }
       }
-    }
-  };
-  // the largest angle from `axis` to the normals: the smallest dot product picks the normal,
-  // one accurate angle is computed from it
-  auto widest = [](const double axis[3], const std::vector<std::array<double, 3>>& normals) {
-    const std::array<double, 3>* far = nullptr;
-    double least = 2.0;
-    for (const auto& n : normals)
-    {
-      const double d = Dot(axis, n.data());
-      if (d < least)
+      if (c[first] != p)
       {
-        least = d;
-        far = &n;
+        continue; // counted once per leaf, at its first corner inside
       }
+      double n[3];
+      const double area = this->Face(t, n);
+      if (area > 0)
+      {
+        // the corners inside share one cluster (the triangle's edges join them)
+        s.AddTriangle(n, u, area * inside / 3.0, area * inside);
+        normals.push_back({ n[0], n[1], n[2] });
+      }
+      this->TriangleMaterial(t, d, sp);
     }
-    return far ? AngleBetween(axis, far->data()) : 0.0;
-  };
-  // a node's own quantities from the sums of its clusters; its clusters' vertices and normals
-  auto finishNode = [&](int64_t node, int level, uint64_t key, const CellSums* sums, int count,
-                      CellSums& total) {
-    for (int k = 0; k < count; ++k)
-    {
-      total.Add(sums[k]);
-      const int64_t c = o.FirstCluster[node] + k;
-      this->PlaceVertex(sums[k], key, level, &o.ClusterVertex[3 * c]);
-      ShadingNormal(sums[k], &o.ClusterNormal[3 * c]);
-    }
-    if (count == 1)
-    {
-      // one cluster: the cell's sums are its sums, and so is its vertex
-      std::copy_n(&o.ClusterVertex[3 * o.FirstCluster[node]], 3, &o.Vertex[3 * node]);
-    }
-    else
-    {
-      this->PlaceVertex(total, key, level, &o.Vertex[3 * node]);
-    }
-    // only read for cells that are not topologically safe (known by now)
-    o.Thickness[node] = (o.Flags[node] & NodeTopologySafe)
-      ? 0.0f
-      : static_cast<float>(Thickness(total, total.Count) * this->Edge);
-  };
+  }
+  this->AddPassing(leaf, normals, d, sp);
+  CellSums total;
+  this->FinishNode(
+    leaf, this->L, this->Keys[this->L][leaf - this->Offset[this->L]], sums.data(), count, total);
+  double axis[3];
+  const bool valid = NormaliseAxis(total.N, total.W, axis);
+  const double theta = valid ? std::min(Pi, Widest(axis, normals)) : Pi;
+  this->StoreCone(leaf, axis, theta, d, sp);
+}
 
-  // leaves: their points and the triangles at them; `sums` receives the leaf's cluster sums
+void MeshBuild::InnerCell(int64_t node, int l, int64_t i, CellSums* sums, int clusters,
+  std::vector<std::array<double, 3>>& normals)
+{
+  // its clusters' sums already gathered from its children
+  OctreeArrays& o = this->Out;
+  Range d, sp;
+  normals.clear();
+  const int children = __builtin_popcount(o.ChildMask[node]);
+  double childAxis[8][3], childAngle[8];
+  for (int c = 0; c < children; ++c)
+  {
+    const int64_t ch = o.FirstChild[node] + c;
+    for (int a = 0; a < 3; ++a)
+    {
+      childAxis[c][a] = o.ConeAxis[3 * ch + a];
+    }
+    childAngle[c] = o.ConeAngle[ch];
+    d.Add(&o.DiffuseRange[2 * ch]);
+    sp.Add(&o.SpecularRange[2 * ch]);
+  }
+  this->AddPassing(node, normals, d, sp);
+  CellSums total;
+  this->FinishNode(node, l, this->Keys[l][i], sums, clusters, total);
+  double axis[3];
+  const bool valid = NormaliseAxis(total.N, total.W, axis);
+  double theta = EnclosingConeAngle(axis, valid, childAxis, childAngle, children);
+  if (valid)
+  {
+    theta = std::min(Pi, std::max(theta, Widest(axis, normals)));
+  }
+  this->StoreCone(node, axis, theta, d, sp);
+}
+
+bool MeshBuild::ComputeLeavesAndParents(std::vector<CellSums>& child)
+{
+  // each parent sums its leaves' clusters as they are made, so that the leaves' sums (240
+  // bytes per cluster, the most numerous) are never all held at once; the order of the sums
+  // is the same as level by level
+  OctreeArrays& o = this->Out;
+  const int l = this->L - 1;
+  const int64_t base = this->Offset[l], count = this->Offset[l + 1] - base;
+  const int64_t clusterBase = this->ClusterOffset[l];
+  child.resize(this->ClusterOffset[l + 1] - clusterBase);
+  return BlockedFor(
+    count, 256, Block / 16, this->For,
+    [&](int64_t b, int64_t e) {
+      std::vector<std::array<double, 3>> normals;
+      std::vector<CellSums> leafSums;
+      for (int64_t i = b; i < e; ++i)
+      {
+        const int64_t node = base + i;
+        const int64_t cf = o.FirstCluster[node];
+        CellSums* sums = &child[cf - clusterBase];
+        const int clusters = static_cast<int>(o.FirstCluster[node + 1] - cf);
+        const int children = __builtin_popcount(o.ChildMask[node]);
+        for (int c = 0; c < children; ++c)
+        {
+          const int64_t ch = o.FirstChild[node] + c;
+          this->LeafCell(ch, leafSums, normals);
+          const int64_t chFirst = o.FirstCluster[ch];
+          for (size_t k = 0; k < leafSums.size(); ++k)
+          {
+            sums[o.ClusterParent[chFirst + static_cast<int64_t>(k)] - cf].Add(leafSums[k]);
+          }
+        }
+        this->InnerCell(node, l, i, sums, clusters, normals);
+      }
+    },
+    [&](double f) { return this->Report(0.7 * f); });
+}
+
+bool MeshBuild::ComputeUpperCells(std::vector<CellSums>& child)
+{
+  // each level from its children's clusters (`child`: those of level l + 1)
+  OctreeArrays& o = this->Out;
   const int L = this->L;
-  const int64_t firstLeaf = this->Offset[L];
-  const int64_t leafClustersEnd = this->ClusterOffset[L + 1];
-  auto leafCell = [&](int64_t leaf, std::vector<CellSums>& sums,
-                    std::vector<std::array<double, 3>>& normals) {
-    const int64_t cf = o.FirstCluster[leaf];
-    const int count =
-      static_cast<int>((leaf + 1 < this->Nodes ? o.FirstCluster[leaf + 1] : leafClustersEnd) - cf);
-    sums.assign(count, CellSums());
-    Range d, sp;
-    normals.clear();
-    const int64_t p0 = o.FirstPoint[leaf], p1 = this->PointEnd(leaf);
-    for (int64_t p = p0; p < p1; ++p)
-    {
-      CellSums& s = sums[o.PointCluster[p] - cf];
-      double u[3];
-      this->Position(p, u);
-      s.AddPoint(u);
-      this->Material(p, d, sp);
-      auto bq = std::lower_bound(this->BoundaryQuadric.begin(), this->BoundaryQuadric.end(),
-        static_cast<int32_t>(p),
-        [](const std::pair<int32_t, Quadric>& x, int32_t k) { return x.first < k; });
-      if (bq != this->BoundaryQuadric.end() && bq->first == p)
-      {
-        s.Q.Add(bq->second);
-      }
-      for (int64_t j = this->IncStart[p]; j < this->IncStart[p + 1]; ++j)
-      {
-        const int32_t t = this->Inc[j];
-        const int32_t* c = &o.Triangles[3 * t];
-        int inside = 0, first = -1;
-        for (int k = 0; k < 3; ++k)
-        {
-          if (o.PointLeaf[c[k]] == leaf)
-          {
-            ++inside;
-            first = first < 0 ? k : first;
-          }
-        }
-        if (c[first] != p)
-        {
-          continue; // counted once per leaf, at its first corner inside
-        }
-        double n[3];
-        const double area = this->Face(t, n);
-        if (area > 0)
-        {
-          // the corners inside share one cluster (the triangle's edges join them)
-          s.AddTriangle(n, u, area * inside / 3.0, area * inside);
-          normals.push_back({ n[0], n[1], n[2] });
-        }
-        this->TriangleMaterial(t, d, sp);
-      }
-    }
-    addPassing(leaf, normals, d, sp);
-    CellSums total;
-    finishNode(leaf, L, this->Keys[L][leaf - firstLeaf], sums.data(), count, total);
-    double axis[3];
-    const bool valid = NormaliseAxis(total.N, total.W, axis);
-    const double theta = valid ? std::min(Pi, widest(axis, normals)) : Pi;
-    for (int a = 0; a < 3; ++a)
-      o.ConeAxis[3 * leaf + a] = static_cast<float>(axis[a]);
-    o.ConeAngle[leaf] = static_cast<float>(theta);
-    d.Store(&o.DiffuseRange[2 * leaf], ud);
-    sp.Store(&o.SpecularRange[2 * leaf], us);
-  };
-
-  // an inner cell at level l, its clusters' sums already gathered from its children
-  auto innerCell = [&](int64_t node, int l, int64_t i, CellSums* sums, int clusters,
-                     std::vector<std::array<double, 3>>& normals) {
-    Range d, sp;
-    normals.clear();
-    const int children = __builtin_popcount(o.ChildMask[node]);
-    double childAxis[8][3], childAngle[8];
-    for (int c = 0; c < children; ++c)
-    {
-      const int64_t ch = o.FirstChild[node] + c;
-      for (int a = 0; a < 3; ++a)
-      {
-        childAxis[c][a] = o.ConeAxis[3 * ch + a];
-      }
-      childAngle[c] = o.ConeAngle[ch];
-      d.Add(&o.DiffuseRange[2 * ch]);
-      sp.Add(&o.SpecularRange[2 * ch]);
-    }
-    addPassing(node, normals, d, sp);
-    CellSums total;
-    finishNode(node, l, this->Keys[l][i], sums, clusters, total);
-    double axis[3];
-    const bool valid = NormaliseAxis(total.N, total.W, axis);
-    double theta = EnclosingConeAngle(axis, valid, childAxis, childAngle, children);
-    if (valid)
-    {
-      theta = std::min(Pi, std::max(theta, widest(axis, normals)));
-    }
-    for (int a = 0; a < 3; ++a)
-      o.ConeAxis[3 * node + a] = static_cast<float>(axis[a]);
-    o.ConeAngle[node] = static_cast<float>(theta);
-    d.Store(&o.DiffuseRange[2 * node], ud);
-    sp.Store(&o.SpecularRange[2 * node], us);
-  };
-
-  if (L == 0)
-  {
-    // the root is the only leaf
-    std::vector<CellSums> sums;
-    std::vector<std::array<double, 3>> normals;
-    leafCell(0, sums, normals);
-    std::vector<std::pair<int32_t, Quadric>>().swap(this->BoundaryQuadric);
-    std::vector<int64_t>().swap(this->TriSource);
-    return this->Report(1.0);
-  }
-
-  // the leaves and their parents together: each parent sums its leaves' clusters as they are
-  // made, so that the leaves' sums (240 bytes per cluster, the most numerous) are never all
-  // held at once. The order of the sums is the same as level by level.
-  std::vector<CellSums> child;
-  {
-    const int l = L - 1;
-    const int64_t base = this->Offset[l], count = this->Offset[l + 1] - base;
-    const int64_t clusterBase = this->ClusterOffset[l];
-    child.resize(this->ClusterOffset[l + 1] - clusterBase);
-    const bool ok = BlockedFor(
-      count, 256, Block / 16, this->For,
-      [&](int64_t b, int64_t e) {
-        std::vector<std::array<double, 3>> normals;
-        std::vector<CellSums> leafSums;
-        for (int64_t i = b; i < e; ++i)
-        {
-          const int64_t node = base + i;
-          const int64_t cf = o.FirstCluster[node];
-          CellSums* sums = &child[cf - clusterBase];
-          const int clusters = static_cast<int>(o.FirstCluster[node + 1] - cf);
-          const int children = __builtin_popcount(o.ChildMask[node]);
-          for (int c = 0; c < children; ++c)
-          {
-            const int64_t ch = o.FirstChild[node] + c;
-            leafCell(ch, leafSums, normals);
-            const int64_t chFirst = o.FirstCluster[ch];
-            for (size_t k = 0; k < leafSums.size(); ++k)
-            {
-              sums[o.ClusterParent[chFirst + static_cast<int64_t>(k)] - cf].Add(leafSums[k]);
-            }
-          }
-          innerCell(node, l, i, sums, clusters, normals);
-        }
-      },
-      [&](double f) { return this->Report(0.7 * f); });
-    if (!ok)
-    {
-      return false;
-    }
-  }
-  std::vector<std::pair<int32_t, Quadric>>().swap(this->BoundaryQuadric);
-
-  // coarser levels, from their children's clusters
   for (int l = L - 2; l >= 0; --l)
   {
     const int64_t base = this->Offset[l], count = this->Offset[l + 1] - base;
@@ -1957,7 +1978,7 @@ bool MeshBuild::ComputeCells()
             sums[o.ClusterParent[k] - cf].Add(child[k - childClusterBase]);
           }
         }
-        innerCell(node, l, i, sums, clusters, normals);
+        this->InnerCell(node, l, i, sums, clusters, normals);
       }
     });
     child.swap(parent);
@@ -1965,6 +1986,33 @@ bool MeshBuild::ComputeCells()
     {
       return false;
     }
+  }
+  return true;
+}
+
+bool MeshBuild::ComputeCells()
+{
+  this->Report.Phase("cells", 0.6, 0.8);
+  if (this->L == 0)
+  {
+    // the root is the only leaf
+    std::vector<CellSums> sums;
+    std::vector<std::array<double, 3>> normals;
+    this->LeafCell(0, sums, normals);
+    std::vector<std::pair<int32_t, Quadric>>().swap(this->BoundaryQuadric);
+    std::vector<int64_t>().swap(this->TriSource);
+    return this->Report(1.0);
+  }
+  // the leaves with their parents, then each coarser level from the one below
+  std::vector<CellSums> child;
+  if (!this->ComputeLeavesAndParents(child))
+  {
+    return false;
+  }
+  std::vector<std::pair<int32_t, Quadric>>().swap(this->BoundaryQuadric);
+  if (!this->ComputeUpperCells(child))
+  {
+    return false;
   }
   std::vector<int64_t>().swap(this->TriSource);
   return true;
