@@ -6,7 +6,6 @@
 Interactive: rotate with the mouse; the actor selects its cut again for every view. With
 --offscreen (run it under `xvfb-run -a`), it orbits for 30 frames and prints the triangles drawn.
 """
-import os
 import sys
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401
@@ -17,19 +16,7 @@ from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkRenderW
 
 from perceptual_lod import vtkMultiscaleOctreeReader, vtkPerceptualLODActor, vtkPLYFileCheck
 
-
-def checked(path):
-    """`path` if a reader may open it: a regular file (a FIFO would make the reader wait forever)
-    that, for PLY, vtkPLYFileCheck accepts (VTK's PLY reader crashes on some damaged files)."""
-    if not os.path.isfile(path):
-        sys.exit(f'{path}: missing, or not a regular file (a directory, a FIFO or a device)')
-    if path.lower().endswith('.ply'):
-        check = vtkPLYFileCheck()
-        check.SetFileName(path)
-        if not check.Check():
-            sys.exit(f'{path}: {check.GetErrorMessage()}')
-    return path
-
+from model_files import checked  # beside this script
 
 args = [checked(a) for a in sys.argv[1:] if not a.startswith('--')]
 if args and vtkMultiscaleOctreeReader.CanReadFile(args[0]):

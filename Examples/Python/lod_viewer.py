@@ -6,7 +6,6 @@
 Interactive: rotate with the mouse; keys 1 SRCC, 2 SRCC+TMM, 3 SCVC, 4 PSEC, 0 full resolution.
 With --offscreen (run it under `xvfb-run -a`), it orbits for 60 frames and prints the figures.
 """
-import os
 import sys
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401
@@ -17,22 +16,9 @@ from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRendere
                                          vtkRenderWindow, vtkRenderWindowInteractor)
 
 from perceptual_lod import (vtkMultiscaleOctreeBuilder, vtkMultiscalePatchGenerator,
-                            vtkPerceptualLODRenderBinding, vtkPerceptualLODSelector,
-                            vtkPLYFileCheck)
+                            vtkPerceptualLODRenderBinding, vtkPerceptualLODSelector)
 
-
-def checked(path):
-    """`path` if a reader may open it: a regular file (a FIFO would make the reader wait forever)
-    that, for PLY, vtkPLYFileCheck accepts (VTK's PLY reader crashes on some damaged files)."""
-    if not os.path.isfile(path):
-        sys.exit(f'{path}: missing, or not a regular file (a directory, a FIFO or a device)')
-    if path.lower().endswith('.ply'):
-        check = vtkPLYFileCheck()
-        check.SetFileName(path)
-        if not check.Check():
-            sys.exit(f'{path}: {check.GetErrorMessage()}')
-    return path
-
+from model_files import checked  # beside this script
 
 args = [checked(a) for a in sys.argv[1:] if not a.startswith('--')]
 offscreen = '--offscreen' in sys.argv
