@@ -79,9 +79,8 @@ inline double PositivePower(double x, double power)
   return std::pow(x, power);
 }
 
-/// ConeCosineRange's body, which the walks inline (an exported function of a shared library is
-/// not inlined: it could be interposed; measured, the call took 10 % of the SRCC walk).
-/// `integerPower`: IntegerPower(power), known to the caller.
+/// ConeCosineRange with `integerPower` = IntegerPower(power) known to the caller (the walks
+/// compute it once a frame).
 inline void ConeRange(double cosA, double sinA, double cosT, double sinT, double power,
   double& high, double& low, int integerPower)
 {
@@ -97,19 +96,6 @@ inline void ConeRange(double cosA, double sinA, double cosT, double sinT, double
   low = PositivePower(cHi, power);
 }
 
-inline void ConeRange(
-  double cosA, double sinA, double cosT, double sinT, double power, double& high, double& low)
-{
-  ConeRange(cosA, sinA, cosT, sinT, power, high, low, -1);
-}
-
-/// ChengAccepts' body, inlined by the walks (as ConeRange).
-inline bool ChengTest(double cosT, double sinT, double rate, double D)
-{
-  // cos(min(pi, 2 theta)): cos 2theta = cos^2 - sin^2 while theta <= pi/2, else -1
-  const double cos2 = cosT > 0 ? cosT * cosT - sinT * sinT : -1.0;
-  return cos2 > std::exp(-rate * D);
-}
 } // namespace
 
 double ConeCosineSpread(double cosA, double sinA, double cosT, double sinT, double power)
@@ -122,12 +108,14 @@ double ConeCosineSpread(double cosA, double sinA, double cosT, double sinT, doub
 void ConeCosineRange(
   double cosA, double sinA, double cosT, double sinT, double power, double& high, double& low)
 {
-  ConeRange(cosA, sinA, cosT, sinT, power, high, low);
+  ConeRange(cosA, sinA, cosT, sinT, power, high, low, -1);
 }
 
 bool ChengAccepts(double cosT, double sinT, double rate, double D)
 {
-  return ChengTest(cosT, sinT, rate, D);
+  // cos(min(pi, 2 theta)): cos 2theta = cos^2 - sin^2 while theta <= pi/2, else -1
+  const double cos2 = cosT > 0 ? cosT * cosT - sinT * sinT : -1.0;
+  return cos2 > std::exp(-rate * D);
 }
 
 int DistanceLevel(double rootEdge, int finestLevel, double pixelThreshold, double viewAngle,
@@ -614,7 +602,7 @@ template <bool WithPriority>
   {
     foveate();
     // Cheng §2 alone: curvature against the foveated threshold exp(-K D)
-    Decision d = ChengTest(cosT, sinT, in.FoveationRate, D)
+    Decision d = ChengAccepts(cosT, sinT, in.FoveationRate, D)
       ? Draw(AcceptedError)
       : Refine(false, WithPriority ? ChengExcess(cosT, sinT, in.FoveationRate, D) : 0.0);
     d.Factor = in.Foveation != FoveationMode::Off;
@@ -750,7 +738,7 @@ template <bool WithPriority>
           if (MdMax > 0 && l.Diffuse > 0)
           {
             const double ca = Dot(axis, vl);
-            ConeRange(ca, std::sqrt(std::max(0.0, 1 - ca * ca)), cosT, sinT, 1.0, high, low);
+            ConeRange(ca, std::sqrt(std::max(0.0, 1 - ca * ca)), cosT, sinT, 1.0, high, low, -1);
             dB += BrightnessChange(MdMin, MdMax, l.Diffuse, high, low);
           }
           if (MsMax > 0 && l.Specular > 0)
