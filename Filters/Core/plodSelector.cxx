@@ -461,6 +461,337 @@ Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const float* sinT
   return f;
 }
 
+/// A tolerance at the two ends of the factor's range (equal when the factor is known exactly).
+struct Bounds
+{
+  double Lo, Hi;
+  Bounds Scaled(double s) const { return { this->Lo * s, this->Hi * s }; }
+};
+
+/**
+ * The factor of a cell's tolerances (velocity and foveation), known exactly or known to lie in
+ * [Lo, Hi] (screen foveation's table, FoveaTable). A test `x <= T` or `x > T` decides at the low
+ * end; over an interval, Ambiguous records that the high end would decide otherwise (both
+ * tests are monotone in T), and the walk then computes the factor and judges the cell again.
+ */
+template <bool IsInterval>
+struct ToleranceFactor
+{
+  double Lo, Hi;
+  bool Ambiguous = false;
+
+  /// Tolerance `t` times the factor; a tolerance of 0 accepts nothing (not even an error of
+  /// exactly 0): -1.
+  Bounds Of(double t) const
+  {
+    return t > 0 ? Bounds{ t * this->Lo, t * this->Hi } : Bounds{ -1.0, -1.0 };
+  }
+  /// `t` times the factor, whatever its sign.
+  Bounds Times(double t) const { return { t * this->Lo, t * this->Hi }; }
+  bool AtMost(double x, const Bounds& t)
+  {
+    const bool r = x <= t.Lo;
+    if constexpr (IsInterval)
+      this->Ambiguous = this->Ambiguous || r != (x <= t.Hi);
+    return r;
+  }
+  bool Above(double x, const Bounds& t)
+  {
+    const bool r = x > t.Lo;
+    if constexpr (IsInterval)
+      this->Ambiguous = this->Ambiguous || r != (x > t.Hi);
+    return r;
+  }
+};
+
+/// What the decisions read of one cell seen from the eye.
+struct CellView
+{
+  int32_t N;
+  int Level;
+  double H;            // edge
+  double X[3];         // vertex
+  double Axis[3];      // cone axis
+  double Ve[3];        // unit vector from the vertex to the eye (parallel: -direction)
+  double ToEye[3];     // perspective: eye - vertex
+  double Inverse;      // perspective: 1 / |eye - vertex|
+  double K;            // pixels per unit length at the vertex
+  double C;            // axis . ve
+  double CosT, SinT;   // the cone's half angle
+  double Motion[3];    // v_f = A v + b at the vertex (micro motion), else 0
+  bool BrightnessOnly; // the parent's contour decision holds for it
+};
+
+/// D, the cell's normalised distance from the point of interest (Cheng's object mode) or from
+/// the gaze (screen mode); 0 with foveation off.
+inline double FoveationDistance(const Frame& f, const CellView& cell)
+{
+  const SelectionInput& in = f.In;
+  if (in.Foveation == FoveationMode::Off)
+    return 0.0;
+  if (in.Foveation == FoveationMode::Object)
+  {
+    const double* up = in.FoveationUp;
+    double r[3], fp[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      r[a] = cell.X[a] - in.FoveationCentre[a];
+      fp[a] = in.FoveationPoint[a] - in.FoveationCentre[a];
+    }
+    const double y = Dot(r, up), fy = Dot(fp, up);
+    for (int a = 0; a < 3; ++a)
+    {
+      r[a] -= y * up[a];
+      fp[a] -= fy * up[a];
+    }
+    const double c[3] = { r[1] * fp[2] - r[2] * fp[1], r[2] * fp[0] - r[0] * fp[2],
+      r[0] * fp[1] - r[1] * fp[0] };
+    const double beta =
+      (Dot(r, r) > 0 && Dot(fp, fp) > 0) ? std::atan2(std::sqrt(Dot(c, c)), Dot(r, fp)) : 0.0;
+    return in.FoveationWeights[0] * beta / Pi +
+      in.FoveationWeights[1] * std::abs(y - fy) / in.FoveationHeight;
+  }
+  const double* g = in.GazeDirection;
+  const double ray[3] = { -cell.Ve[0], -cell.Ve[1], -cell.Ve[2] };
+  const double c[3] = { ray[1] * g[2] - ray[2] * g[1], ray[2] * g[0] - ray[0] * g[2],
+    ray[0] * g[1] - ray[1] * g[0] };
+  return std::atan2(std::sqrt(Dot(c, c)), Dot(ray, g)) / Pi;
+}
+
+/// The shape error in pixels: the shape error less the motion along the axis, projected.
+inline double ContourError(const Frame& f, const CellView& cell)
+{
+  return std::max(0.0, double(f.V.ShapeError[cell.N]) - std::abs(Dot(cell.Axis, cell.Motion))) *
+    cell.K;
+}
+
+/**
+ * The shading error (SRCC eq. 7-10, TMM eq. 11-13) in brightness x pixels: the brightness range
+ * dB of the cell's cone under the lights (at most 1, a rendered pixel's range), times its
+ * projected size, reduced by the motion across the view.
+ */
+inline double ShadingError(const Frame& f, const CellView& cell)
+{
+  const OctreeView& v = f.V;
+  const SelectionInput& in = f.In;
+  const int32_t n = cell.N;
+  double dB = 0;
+  if (!in.Lights.empty())
+  {
+    // TMM eq. (9): the octree's (min, max) reflectances; one material: min = max
+    const double MdMin = in.UseOctreeMaterial ? v.DiffuseRange[2 * n] : in.Diffuse;
+    const double MdMax = in.UseOctreeMaterial ? v.DiffuseRange[2 * n + 1] : in.Diffuse;
+    const double MsMin = in.UseOctreeMaterial ? v.SpecularRange[2 * n] : in.Specular;
+    const double MsMax = in.UseOctreeMaterial ? v.SpecularRange[2 * n + 1] : in.Specular;
+    for (const Frame::Light& l : f.Lights)
+    {
+      if (dB >= 1.0)
+      {
+        break; // a rendered pixel saturates at 1: no cell can vary by more (see below)
+      }
+      double vl[3];
+      const double ll = ToLight(l, cell.X, vl);
+      if (!(ll > 0))
+      {
+        // a light on the vertex lights every direction: the largest variation
+        dB += MdMax * l.Diffuse + MsMax * l.Specular;
+        continue;
+      }
+      double high, low;
+      if (MdMax > 0 && l.Diffuse > 0)
+      {
+        const double ca = Dot(cell.Axis, vl);
+        ConeRange(
+          ca, std::sqrt(std::max(0.0, 1 - ca * ca)), cell.CosT, cell.SinT, 1.0, high, low, -1);
+        dB += BrightnessChange(MdMin, MdMax, l.Diffuse, high, low);
+      }
+      if (MsMax > 0 && l.Specular > 0)
+      {
+        double hv[3];
+        for (int a = 0; a < 3; ++a)
+          hv[a] = vl[a] + cell.Ve[a];
+        const double hl = std::sqrt(Dot(hv, hv));
+        high = 1.0; // light opposite the eye: no defined half vector
+        low = 0.0;
+        if (hl > 0)
+        {
+          const double cb = Dot(cell.Axis, hv) / hl;
+          ConeRange(cb, std::sqrt(std::max(0.0, 1 - cb * cb)), cell.CosT, cell.SinT,
+            in.SpecularPower, high, low, f.SpecularExponent);
+        }
+        dB += BrightnessChange(MsMin, MsMax, l.Specular, high, low);
+      }
+    }
+  }
+  // The rendered brightness saturates at 1, so a cell's visible variation is at most 1 however
+  // many bright lights add up (1,000 lights of intensity 1 took 26 s a selection: every cell
+  // refined to the finest level, every light summed at every node).
+  dB = std::min(dB, 1.0);
+  // projected cell size, reduced by the motion across the view (v_d: n projected on the
+  // plane normal to v_e; zero when n is parallel to v_e)
+  double size = cell.H * std::max(0.0, cell.C);
+  if (f.Micro)
+  {
+    double vd[3];
+    for (int a = 0; a < 3; ++a)
+      vd[a] = cell.Axis[a] - cell.C * cell.Ve[a];
+    const double vdl = std::sqrt(Dot(vd, vd));
+    if (vdl > 1e-12)
+      size = std::max(0.0, size - std::abs(Dot(vd, cell.Motion)) / vdl);
+  }
+  return dB * size * cell.K;
+}
+
+/// PSEC's feature test: the cell is on the contour, or a specular highlight may lie in it.
+inline bool PSECFeature(const Frame& f, const CellView& cell)
+{
+  bool feature = !(cell.CosT > 0 && (cell.C > cell.SinT || cell.C < -cell.SinT));
+  for (size_t i = 0; i < f.Lights.size() && !feature && f.AnySpecular; ++i)
+  {
+    const Frame::Light& l = f.Lights[i];
+    if (l.Specular <= 0)
+      continue;
+    double vl[3];
+    const double ll = ToLight(l, cell.X, vl);
+    if (!(ll > 0))
+      return true;
+    double hv[3];
+    for (int a = 0; a < 3; ++a)
+      hv[a] = vl[a] + cell.Ve[a];
+    const double hl = std::sqrt(Dot(hv, hv));
+    feature = hl > 0 && Dot(cell.Axis, hv) / hl >= cell.CosT;
+  }
+  return feature;
+}
+
+/// The floors every tolerance model shares: whether a cell that is not a union of discs is
+/// thicker than its tolerance (it is then refined: the part it could make vanish shows), and
+/// whether its edge projects within the contour tolerance (it cannot show more than that).
+struct Floors
+{
+  bool Unsafe;
+  bool SizeWithin;
+  bool Small; // within the size floor and safe
+};
+
+template <bool IsInterval>
+inline Floors JudgeFloors(
+  const Frame& f, const CellView& cell, ToleranceFactor<IsInterval>& factor, const Bounds& Ts)
+{
+  const OctreeView& v = f.V;
+  // its tolerance follows motion and foveation like the others: DPV's infinite factor still
+  // accepts the root alone
+  const bool unsafe = !(v.Flags[cell.N] & NodeTopologySafe) &&
+    factor.Above(double(v.Thickness[cell.N]) * cell.K, factor.Times(f.In.TopologyTolerance));
+  const bool sizeWithin = Ts.Lo >= 0 && factor.AtMost(cell.H * cell.K, Ts);
+  return { unsafe, sizeWithin, sizeWithin && !unsafe };
+}
+
+/// IPV and DPV as TMM §5.3 defines them: velocity alone sets the resolution, through the size
+/// floor.
+template <bool WithPriority>
+inline Decision JudgeVelocityAlone(const CellView& cell, const Floors& floors, const Bounds& Ts)
+{
+  if (floors.Small)
+    return Draw(AcceptedSize);
+  return Refine(false,
+    WithPriority ? (floors.Unsafe ? Infinite : Over(cell.H * cell.K, Ts.Lo)) : 0.0,
+    floors.SizeWithin);
+}
+
+/// The baselines: SCVC (the shape error against the contour tolerance everywhere), PSEC (a
+/// tighter tolerance on features), distance levels (Wang & Sato).
+template <bool WithPriority, bool IsInterval>
+inline Decision JudgeBaseline(const Frame& f, const CellView& cell,
+  ToleranceFactor<IsInterval>& factor, const Floors& floors, const Bounds& Ts)
+{
+  const SelectionInput& in = f.In;
+  if (in.Error == ErrorModel::Distance)
+  {
+    if (cell.Level >= in.DistanceLevel && !floors.Unsafe)
+      return Draw(AcceptedError);
+    // the cell's edge over the edge of the level Wang & Sato chose
+    return Refine(false,
+      WithPriority ? (floors.Unsafe ? Infinite : std::ldexp(1.0, in.DistanceLevel - cell.Level))
+                   : 0.0);
+  }
+  if (floors.Small)
+    return Draw(AcceptedSize);
+  const Bounds tol =
+    in.Error == ErrorModel::PSEC && PSECFeature(f, cell) ? Ts.Scaled(in.PSECFactor) : Ts;
+  const double err = ContourError(f, cell);
+  const bool within = factor.AtMost(err, tol);
+  if (within && !floors.Unsafe)
+    return Draw(AcceptedError);
+  return Refine(false, WithPriority ? (floors.Unsafe ? Infinite : Over(err, tol.Lo)) : 0.0, within);
+}
+
+/// SRCC (with TMM's motion): the contour (eq. 4-5, TMM eq. 6-7), then the brightness (eq. 7-10,
+/// TMM eq. 11-13). Back faces were decided before (Judge, step 2a).
+template <bool WithPriority, bool IsInterval>
+inline Decision JudgeSRCC(const Frame& f, const CellView& cell, ToleranceFactor<IsInterval>& factor,
+  const Floors& floors, const Bounds& Ts)
+{
+  const OctreeView& v = f.V;
+  const Bounds Tb = factor.Of(f.In.BrightnessTolerance);
+  // a refinement for the contour (or a rim) is ranked by the larger of its errors over their
+  // tolerances: the contour's and the brightness'. The brightness error is at most
+  // h max(0, c) k (dB <= 1, motion only shrinks the size): when that bound cannot exceed the
+  // contour's ratio, the shading is not computed (measured: 30 % more ConeCosineRange calls)
+  auto contourPriority = [&](double overContour) {
+    if (floors.Unsafe || !(Tb.Lo > 0))
+      return Infinite;
+    if (cell.H * std::max(0.0, cell.C) * cell.K <= overContour * Tb.Lo)
+      return overContour;
+    return std::max(overContour, Over(ShadingError(f, cell), Tb.Lo));
+  };
+  CutReason accepted = AcceptedBrightness;
+  if (!cell.BrightnessOnly)
+  {
+    if (floors.Small)
+    {
+      return Draw(AcceptedSize);
+    }
+    // an open surface's rim is a silhouette from every side: refined like the contour, until
+    // its edge passes the size floor
+    if (v.Flags[cell.N] & NodeBoundary)
+    {
+      return Refine(false, WithPriority ? contourPriority(Over(cell.H * cell.K, Ts.Lo)) : 0.0);
+    }
+    if (!(cell.CosT > 0 && cell.C > cell.SinT))
+    {
+      const double err = ContourError(f, cell);
+      if (factor.Above(err, Ts))
+      {
+        return Refine(false, WithPriority ? contourPriority(Over(err, Ts.Lo)) : 0.0);
+      }
+      accepted = AcceptedContour;
+    }
+  }
+  if (floors.Unsafe)
+  {
+    return Refine(cell.BrightnessOnly, Infinite, true);
+  }
+  const double shadingError = ShadingError(f, cell);
+  if (factor.AtMost(shadingError, Tb))
+    return Draw(accepted);
+  return Refine(true, WithPriority ? Over(shadingError, Tb.Lo) : 0.0);
+}
+
+/// The decisions that read the tolerances, by error model, for the factor `factor`.
+template <bool WithPriority, bool IsInterval>
+[[gnu::always_inline]] inline Decision JudgeTolerances(
+  const Frame& f, const CellView& cell, ToleranceFactor<IsInterval>& factor)
+{
+  const Bounds Ts = factor.Of(f.In.ContourTolerance);
+  const Floors floors = JudgeFloors(f, cell, factor, Ts);
+  if (f.VelocityAlone)
+    return JudgeVelocityAlone<WithPriority>(cell, floors, Ts);
+  if (!f.Srcc)
+    return JudgeBaseline<WithPriority>(f, cell, factor, floors, Ts);
+  return JudgeSRCC<WithPriority>(f, cell, factor, floors, Ts);
+}
+
 /**
  * The per-cell decision of the walk (SRCC §3.5 steps 1-4, the floors and the baselines; see the
  * file documentation) for node `n` with cell coordinates `C`, tested for brightness only when
@@ -518,329 +849,91 @@ template <bool WithPriority>
     return Floor(brightnessOnly);
   }
 
+  // the cell seen from the eye
+  CellView cell;
+  cell.N = n;
+  cell.Level = level;
+  cell.H = h;
+  cell.BrightnessOnly = brightnessOnly;
   const float* vf = &v.Vertex[3 * n];
-  const double x[3] = { vf[0], vf[1], vf[2] };
   const float* nf = &v.ConeAxis[3 * n];
-  const double axis[3] = { nf[0], nf[1], nf[2] };
-  double ve[3], k;
-  double toEye[3] = { 0, 0, 0 }, inverse = 1.0; // perspective: eye - vertex, 1 / its length
+  for (int a = 0; a < 3; ++a)
+  {
+    cell.X[a] = vf[a];
+    cell.Axis[a] = nf[a];
+    cell.ToEye[a] = 0.0;
+  }
+  cell.Inverse = 1.0;
   if (in.Parallel)
   {
     for (int a = 0; a < 3; ++a)
-      ve[a] = -f.Dop[a];
-    k = in.PixelScale;
+      cell.Ve[a] = -f.Dop[a];
+    cell.K = in.PixelScale;
   }
   else
   {
     for (int a = 0; a < 3; ++a)
-      toEye[a] = in.Eye[a] - x[a];
-    const double dist = std::sqrt(Dot(toEye, toEye));
+      cell.ToEye[a] = in.Eye[a] - cell.X[a];
+    const double dist = std::sqrt(Dot(cell.ToEye, cell.ToEye));
     if (!(dist > 0))
     {
       // the eye on the vertex (outside the cell only through rounding): refine
       return Floor(brightnessOnly);
     }
-    inverse = 1.0 / dist;
+    cell.Inverse = 1.0 / dist;
     for (int a = 0; a < 3; ++a)
-      ve[a] = toEye[a] * inverse;
-    k = in.PixelScale * inverse;
+      cell.Ve[a] = cell.ToEye[a] * cell.Inverse;
+    cell.K = in.PixelScale * cell.Inverse;
   }
+  cell.CosT = f.CosTheta[n];
+  cell.SinT = f.SinTheta[n];
+  cell.C = Dot(cell.Axis, cell.Ve);
 
-  const double cosT = f.CosTheta[n], sinT = f.SinTheta[n];
-  const double c = Dot(axis, ve);
   // 2a. SRCC's back faces (the contour test's first case) need no tolerance: decided before the
   // foveation's factor is bounded or computed (measured: +9 % on the foveated benchmark, when
   // every cell computed it)
-  if (f.Srcc && !f.VelocityAlone && !brightnessOnly && cosT > 0 && c < -sinT)
+  if (f.Srcc && !f.VelocityAlone && !brightnessOnly && cell.CosT > 0 && cell.C < -cell.SinT)
   {
     if (in.HideBackFaces)
       return Hide(BackFacing, 0);
     return Draw(BackFacing); // an open surface: seen from behind, drawn but not refined
   }
-
-  // tolerance factor: velocity (IPV/DPV) and foveation, computed by foveate() when a decision
-  // needs it exactly (see FoveaTable)
-  double factor = f.Velocity;
-  double D = 0; // Cheng's normalised distance from the point of interest
-  auto foveate = [&]() {
-    if (in.Foveation == FoveationMode::Off)
-      return;
-    if (in.Foveation == FoveationMode::Object)
-    {
-      const double* up = in.FoveationUp;
-      double r[3], fp[3];
-      for (int a = 0; a < 3; ++a)
-      {
-        r[a] = x[a] - in.FoveationCentre[a];
-        fp[a] = in.FoveationPoint[a] - in.FoveationCentre[a];
-      }
-      const double y = Dot(r, up), fy = Dot(fp, up);
-      for (int a = 0; a < 3; ++a)
-      {
-        r[a] -= y * up[a];
-        fp[a] -= fy * up[a];
-      }
-      const double c[3] = { r[1] * fp[2] - r[2] * fp[1], r[2] * fp[0] - r[0] * fp[2],
-        r[0] * fp[1] - r[1] * fp[0] };
-      const double beta =
-        (Dot(r, r) > 0 && Dot(fp, fp) > 0) ? std::atan2(std::sqrt(Dot(c, c)), Dot(r, fp)) : 0.0;
-      D = in.FoveationWeights[0] * beta / Pi +
-        in.FoveationWeights[1] * std::abs(y - fy) / in.FoveationHeight;
-    }
-    else
-    {
-      const double* g = in.GazeDirection;
-      const double ray[3] = { -ve[0], -ve[1], -ve[2] };
-      const double c[3] = { ray[1] * g[2] - ray[2] * g[1], ray[2] * g[0] - ray[0] * g[2],
-        ray[0] * g[1] - ray[1] * g[0] };
-      D = std::atan2(std::sqrt(Dot(c, c)), Dot(ray, g)) / Pi;
-    }
-    if (!f.Cheng)
-      factor *= std::exp(in.FoveationRate * D);
-  };
   if (f.Cheng)
   {
-    foveate();
     // Cheng §2 alone: curvature against the foveated threshold exp(-K D)
-    Decision d = ChengAccepts(cosT, sinT, in.FoveationRate, D)
+    const double D = FoveationDistance(f, cell);
+    Decision d = ChengAccepts(cell.CosT, cell.SinT, in.FoveationRate, D)
       ? Draw(AcceptedError)
-      : Refine(false, WithPriority ? ChengExcess(cosT, sinT, in.FoveationRate, D) : 0.0);
+      : Refine(false, WithPriority ? ChengExcess(cell.CosT, cell.SinT, in.FoveationRate, D) : 0.0);
     d.Factor = in.Foveation != FoveationMode::Off;
     return d;
   }
-  // the decisions that read the tolerances, for a factor known to lie in [lo, hi] (Interval) or
-  // known exactly (lo = hi = factor)
-  auto tail = [&](auto interval, double lo, double hi, bool& ambiguous) -> Decision {
-    constexpr bool Interval = decltype(interval)::value;
-    // a tolerance of 0 accepts nothing (even an error of exactly 0). Ts, Tb: at the low end of
-    // the factor's range; TsHi, TbHi: at the high end (exact: the same)
-    const double Ts = in.ContourTolerance > 0 ? in.ContourTolerance * lo : -1.0;
-    const double Tb = in.BrightnessTolerance > 0 ? in.BrightnessTolerance * lo : -1.0;
-    const double TsHi = in.ContourTolerance > 0 ? in.ContourTolerance * hi : -1.0;
-    const double TbHi = in.BrightnessTolerance > 0 ? in.BrightnessTolerance * hi : -1.0;
-    // x <= T and x > T for a tolerance T known to lie in [tLo, tHi]: decided at tLo, and
-    // `ambiguous` when tHi decides otherwise (both tests are monotone in T)
-    auto atMost = [&](double x, double tLo, double tHi) {
-      const bool r = x <= tLo;
-      if constexpr (Interval)
-        ambiguous = ambiguous || r != (x <= tHi);
-      return r;
-    };
-    auto above = [&](double x, double tLo, double tHi) {
-      const bool r = x > tLo;
-      if constexpr (Interval)
-        ambiguous = ambiguous || r != (x > tHi);
-      return r;
-    };
-
-    const double dE = v.ShapeError[n];
-    // v_f = A v + b (micro motion)
-    double vfm[3] = { 0, 0, 0 };
-    if (f.Micro)
-    {
-      for (int a = 0; a < 3; ++a)
-        vfm[a] = in.MotionA[a][0] * x[0] + in.MotionA[a][1] * x[1] + in.MotionA[a][2] * x[2] +
-          in.MotionB[a];
-    }
-
-    // a cell that is not a union of discs is refined while the part it could make vanish is
-    // thicker than a pixel (its tolerance follows motion and foveation like the others: DPV's
-    // infinite factor still accepts the root alone)
-    const bool unsafe = !(v.Flags[n] & NodeTopologySafe) &&
-      above(double(v.Thickness[n]) * k, in.TopologyTolerance * lo, in.TopologyTolerance * hi);
-    // a cell whose edge projects within the contour tolerance cannot show more than it: its
-    // points lie within that many pixels of its vertex (the size floor of every mode)
-    const bool sizeWithin = Ts >= 0 && atMost(h * k, Ts, TsHi);
-    const bool small = sizeWithin && !unsafe;
-
-    if (f.VelocityAlone)
-    {
-      if (small)
-        return Draw(AcceptedSize);
-      return Refine(false, WithPriority ? (unsafe ? Infinite : Over(h * k, Ts)) : 0.0, sizeWithin);
-    }
-
-    if (!f.Srcc)
-    {
-      if (small && in.Error != ErrorModel::Distance)
-      {
-        return Draw(AcceptedSize);
-      }
-      if (in.Error == ErrorModel::Distance)
-      {
-        if (level >= in.DistanceLevel && !unsafe)
-          return Draw(AcceptedError);
-        // the cell's edge over the edge of the level Wang & Sato chose
-        return Refine(false,
-          WithPriority ? (unsafe ? Infinite : std::ldexp(1.0, in.DistanceLevel - level)) : 0.0);
-      }
-      double tol = Ts, tolHi = TsHi;
-      if (in.Error == ErrorModel::PSEC)
-      {
-        bool feature = !(cosT > 0 && (c > sinT || c < -sinT)); // on the contour
-        for (size_t i = 0; i < f.Lights.size() && !feature && f.AnySpecular; ++i)
-        {
-          const Frame::Light& l = f.Lights[i];
-          if (l.Specular <= 0)
-            continue;
-          double vl[3];
-          const double ll = ToLight(l, x, vl);
-          if (!(ll > 0))
-          {
-            feature = true;
-            break;
-          }
-          double hv[3];
-          for (int a = 0; a < 3; ++a)
-            hv[a] = vl[a] + ve[a];
-          const double hl = std::sqrt(Dot(hv, hv));
-          feature = hl > 0 && Dot(axis, hv) / hl >= cosT;
-        }
-        if (feature)
-        {
-          tol *= in.PSECFactor;
-          tolHi *= in.PSECFactor;
-        }
-      }
-      const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
-      const bool within = atMost(err, tol, tolHi);
-      if (within && !unsafe)
-        return Draw(AcceptedError);
-      return Refine(false, WithPriority ? (unsafe ? Infinite : Over(err, tol)) : 0.0, within);
-    }
-
-    // 3. brightness (SRCC eq. 7-10, TMM eq. 11-13): the shading error in brightness x pixels,
-    // dB x projected size (computed only when a decision needs it)
-    auto shading = [&]() {
-      double dB = 0;
-      if (!in.Lights.empty())
-      {
-        // TMM eq. (9): the octree's (min, max) reflectances; one material: min = max
-        const double MdMin = in.UseOctreeMaterial ? v.DiffuseRange[2 * n] : in.Diffuse;
-        const double MdMax = in.UseOctreeMaterial ? v.DiffuseRange[2 * n + 1] : in.Diffuse;
-        const double MsMin = in.UseOctreeMaterial ? v.SpecularRange[2 * n] : in.Specular;
-        const double MsMax = in.UseOctreeMaterial ? v.SpecularRange[2 * n + 1] : in.Specular;
-        for (const Frame::Light& l : f.Lights)
-        {
-          if (dB >= 1.0)
-          {
-            break; // a rendered pixel saturates at 1: no cell can vary by more (see below)
-          }
-          double vl[3];
-          const double ll = ToLight(l, x, vl);
-          if (!(ll > 0))
-          {
-            // a light on the vertex lights every direction: the largest variation
-            dB += MdMax * l.Diffuse + MsMax * l.Specular;
-            continue;
-          }
-          double high, low;
-          if (MdMax > 0 && l.Diffuse > 0)
-          {
-            const double ca = Dot(axis, vl);
-            ConeRange(ca, std::sqrt(std::max(0.0, 1 - ca * ca)), cosT, sinT, 1.0, high, low, -1);
-            dB += BrightnessChange(MdMin, MdMax, l.Diffuse, high, low);
-          }
-          if (MsMax > 0 && l.Specular > 0)
-          {
-            double hv[3];
-            for (int a = 0; a < 3; ++a)
-              hv[a] = vl[a] + ve[a];
-            const double hl = std::sqrt(Dot(hv, hv));
-            high = 1.0; // light opposite the eye: no defined half vector
-            low = 0.0;
-            if (hl > 0)
-            {
-              const double cb = Dot(axis, hv) / hl;
-              ConeRange(cb, std::sqrt(std::max(0.0, 1 - cb * cb)), cosT, sinT, in.SpecularPower,
-                high, low, f.SpecularExponent);
-            }
-            dB += BrightnessChange(MsMin, MsMax, l.Specular, high, low);
-          }
-        }
-      }
-      // The rendered brightness saturates at 1, so a cell's visible variation is at most 1 however
-      // many bright lights add up (1,000 lights of intensity 1 took 26 s a selection: every cell
-      // refined to the finest level, every light summed at every node).
-      dB = std::min(dB, 1.0);
-      // projected cell size, reduced by the motion across the view (v_d: n projected on the
-      // plane normal to v_e; zero when n is parallel to v_e)
-      double size = h * std::max(0.0, c);
-      if (f.Micro)
-      {
-        double vd[3];
-        for (int a = 0; a < 3; ++a)
-          vd[a] = axis[a] - c * ve[a];
-        const double vdl = std::sqrt(Dot(vd, vd));
-        if (vdl > 1e-12)
-          size = std::max(0.0, size - std::abs(Dot(vd, vfm)) / vdl);
-      }
-      return dB * size * k;
-    };
-    // a refinement for the contour (or a rim) is ranked by the larger of its errors over their
-    // tolerances: the contour's and the brightness'. The brightness error is at most
-    // h max(0, c) k (dB <= 1, motion only shrinks the size): when that bound cannot exceed the
-    // contour's ratio, the shading is not computed (measured: 30 % more ConeCosineRange calls)
-    auto contourPriority = [&](double overContour) {
-      if (unsafe || !(Tb > 0))
-        return Infinite;
-      if (h * std::max(0.0, c) * k <= overContour * Tb)
-        return overContour;
-      return std::max(overContour, Over(shading(), Tb));
-    };
-
-    // 2. contour (SRCC eq. 4-5, TMM eq. 6-7)
-    CutReason accepted = AcceptedBrightness;
-    if (!brightnessOnly)
-    {
-      // (back faces were decided above, step 2a)
-      if (small)
-      {
-        return Draw(AcceptedSize);
-      }
-      // an open surface's rim is a silhouette from every side: refined like the contour, until
-      // its edge passes the size floor
-      if (v.Flags[n] & NodeBoundary)
-      {
-        return Refine(false, WithPriority ? contourPriority(Over(h * k, Ts)) : 0.0);
-      }
-      if (!(cosT > 0 && c > sinT))
-      {
-        const double err = std::max(0.0, dE - std::abs(Dot(axis, vfm))) * k;
-        if (above(err, Ts, TsHi))
-        {
-          return Refine(false, WithPriority ? contourPriority(Over(err, Ts)) : 0.0);
-        }
-        accepted = AcceptedContour;
-      }
-    }
-    if (unsafe)
-    {
-      return Refine(brightnessOnly, Infinite, true);
-    }
-    const double shadingError = shading();
-    if (atMost(shadingError, Tb, TbHi))
-      return Draw(accepted);
-    return Refine(true, WithPriority ? Over(shadingError, Tb) : 0.0);
-  };
-  bool ambiguous = false;
+  // v_f = A v + b (micro motion)
+  for (int a = 0; a < 3; ++a)
+    cell.Motion[a] = f.Micro ? in.MotionA[a][0] * cell.X[0] + in.MotionA[a][1] * cell.X[1] +
+        in.MotionA[a][2] * cell.X[2] + in.MotionB[a]
+                             : 0.0;
   if (!WithPriority && f.Fovea)
   {
     // screen foveation: the factor's range from the table, without the angle and exponential;
-    // exact only when some test falls inside the range (rare: see FoveaTable)
-    // cos theta between the view ray (-ve) and the gaze; in perspective from toEye, not ve: the
-    // dot product does not wait for the division (the index only needs to be within one
-    // interval: see FoveaTable)
-    const double gazeCos = in.Parallel ? Dot(f.Dop, f.Gaze) : -Dot(toEye, f.Gaze) * inverse;
+    // exact only when some test falls inside the range (rare: see FoveaTable). cos theta
+    // between the view ray (-ve) and the gaze; in perspective from toEye, not ve: the dot
+    // product does not wait for the division (the index only needs to be within one interval)
+    const double gazeCos =
+      in.Parallel ? Dot(f.Dop, f.Gaze) : -Dot(cell.ToEye, f.Gaze) * cell.Inverse;
     double range[2];
     FoveaRange(f, gazeCos, range);
-    const Decision d =
-      tail(std::true_type(), f.Velocity * range[0], f.Velocity * range[1], ambiguous);
-    if (!ambiguous)
+    ToleranceFactor<true> bounded{ f.Velocity * range[0], f.Velocity * range[1] };
+    const Decision d = JudgeTolerances<WithPriority>(f, cell, bounded);
+    if (!bounded.Ambiguous)
       return d;
   }
-  foveate();
-  Decision d = tail(std::false_type(), factor, factor, ambiguous);
+  // the factor computed: velocity (IPV/DPV) times foveation
+  double factor = f.Velocity;
+  if (in.Foveation != FoveationMode::Off)
+    factor *= std::exp(in.FoveationRate * FoveationDistance(f, cell));
+  ToleranceFactor<false> exact{ factor, factor };
+  Decision d = JudgeTolerances<WithPriority>(f, cell, exact);
   d.Factor = in.Foveation != FoveationMode::Off;
   return d;
 }
