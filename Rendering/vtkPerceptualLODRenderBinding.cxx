@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 vtkStandardNewMacro(vtkPerceptualLODRenderBinding);
@@ -257,6 +258,19 @@ void vtkPerceptualLODRenderBinding::SetTargetFrameTime(double seconds)
 void vtkPerceptualLODRenderBinding::SetClock(std::function<double()> clock)
 {
   this->Clock = std::move(clock);
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::SetSimulatedTime(double seconds)
+{
+  auto time = std::make_shared<double>(seconds);
+  this->Clock = [time]() { return *time; };
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::UseWallClock()
+{
+  this->Clock = nullptr;
 }
 
 //------------------------------------------------------------------------------

@@ -143,6 +143,17 @@ public:
   void SetClock(std::function<double()> clock);
 #endif
 
+  /**
+   * The clock of SetClock for scripts (Python has no std::function): from now on the binding
+   * reads `seconds` as the time, until the next call or UseWallClock(). A script that renders
+   * on its own schedule (a measurement of moving views at a simulated frame rate) sets the time
+   * of each frame before the binding's push, and the binding measures the frame times and the
+   * motion on that schedule.
+   */
+  void SetSimulatedTime(double seconds);
+  /// Back to the wall clock (after SetSimulatedTime or SetClock).
+  void UseWallClock();
+
   /// The cost of the last frame measured and not yet steered with (s), which is then forgotten;
   /// 0 when there is none (the first frame, a frame that did not finish, or one already used).
   double TakeFrameCost();

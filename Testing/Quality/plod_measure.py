@@ -227,6 +227,9 @@ class Scene:
         # 0.3, power 20) gives the brightness criterion diffuse 0.72 and specular 0.24
         self.binding = vtkPerceptualLODRenderBinding()
         self.binding.EnabledOff()  # pushed in set_view, before the LOD is selected
+        self.clock_last = 0.0
+        self.clock_zero = 0.0
+        self.binding.SetSimulatedTime(0.0)
         self.binding.SetSelector(self.selector)
         self.patches = vtkMultiscalePatchGenerator()
         self.patches.SetInputConnection(self.selector.GetOutputPort())
@@ -285,12 +288,20 @@ class Scene:
         # camera, frustum, viewport, the headlight and the actor's material and matrix, as the
         # binding reads them from the renderer for every frame of a user's pipeline
         self.binding.UpdateFrom(self.renderer, self.actor)
-        m = self.actor.GetMatrix()
-        view = camera.GetViewTransformMatrix()
-        from vtkmodules.vtkCommonMath import vtkMatrix4x4
-        ov = vtkMatrix4x4()
-        vtkMatrix4x4.Multiply4x4(view, m, ov)
-        return [ov.GetElement(i // 4, i % 4) for i in range(16)]
+
+    # The binding's clock is simulated (SetSimulatedTime): the moving protocols set the time of
+    # each frame, so that the binding measures the motion and the frame times on their schedule.
+    # Between them it stands still (the still protocols have no motion model).
+    def start_clock(self):
+        """A new schedule: at() counts from a second after the last time set (the binding must
+        never see time run back: a negative frame time is an error)."""
+        self.clock_zero = self.clock_last + 1.0
+
+    def at(self, seconds):
+        """The time of the next frame: `seconds` after start_clock()."""
+        t = self.clock_zero + seconds
+        self.clock_last = max(self.clock_last, t)
+        self.binding.SetSimulatedTime(t)
 
     def bounds_moved(self, offset):
         r = self.radius
@@ -491,13 +502,13 @@ def speed_point(scene, distance, v, reps):
     step = v * scene.radius / 60.0
     s = scene.selector
     times = []
-    for _ in range(reps):
-        prev = scene.set_view(distance, offset=(0, 0, 0))
-        cur = scene.set_view(distance, offset=(step, 0, 0))
-        s.SetObjectToViewMatrix(cur)
-        s.SetPreviousObjectToViewMatrix(prev)
-        s.HasPreviousFrameOn()
-        s.SetPreviousFrameTime(1 / 60)
+    scene.start_clock()
+    for rep in range(reps):
+        # the motion over one frame at 60 Hz, measured by the binding on the simulated clock
+        scene.at(rep)
+        scene.set_view(distance, offset=(0, 0, 0))
+        scene.at(rep + 1 / 60)
+        scene.set_view(distance, offset=(step, 0, 0))
         s.SetFrameInterval(1 / 60)
         s.Modified()  # the same view again: time a real selection, not the cached one
         data, tris, sel, pat = scene.lod()
@@ -539,8 +550,11 @@ def against_speed(scene, distance, speeds, writer, reps=5, calibration_reps=3):
                 lo = mid
         scene.set_velocity_constant(name, best[1])
         sweeps[name] = ([speed_point(scene, distance, v, reps) for v in speeds], best[1])
+    # the object's speed on the screen is the motion's, whatever the method: as TMM's selector
+    # measured it (the binding gives a selector without a motion model no motion)
+    pixels = [point[1] for point in sweeps['TMM'][0]]
     for name, (points, constant) in sweeps.items():
-        for v, (tris, px, frame, sel, pat, rms) in zip(speeds, points):
+        for v, px, (tris, _, frame, sel, pat, rms) in zip(speeds, pixels, points):
             row = dict(model=scene.name, method=name, speed=v, pixels_per_frame=px, triangles=tris,
                        frame_ms=frame, select_ms=sel, patch_ms=pat, render_ms=rms, constant=constant)
             writer.writerow(row)
@@ -578,12 +592,17 @@ def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, spe
     horizon = instants * dt
     frames = []  # (completion time, image, triangles, processing ms)
     start = -preroll
+    # the binding measures the motion and the frame times on the run's own schedule: each frame
+    # starts when the previous one is done (the simulated clock), the first dt after the view
+    # before it
     offset, angle, dist = movement(scene, kind, start - dt, distance)
-    prev = scene.set_view(dist, offset, angle)
-    prev_time = dt
+    scene.start_clock()
+    scene.at(start - dt)
+    scene.set_view(dist, offset, angle)
     while start <= horizon:
         offset, angle, dist = movement(scene, kind, start, distance)
-        ov = scene.set_view(dist, offset, angle)
+        scene.at(start)
+        scene.set_view(dist, offset, angle)
         if lod_actor is not None:
             lod_actor.SetOrigin(*scene.centre)
             lod_actor.SetOrientation(0, angle, 0)
@@ -591,18 +610,10 @@ def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, spe
             img, rms = scene.render(None, actor=lod_actor)
             work, tris, sel, pat = rms, -1, 0.0, 0.0
         else:
-            # the harness's own matrices and times replace what the binding measured between
-            # its calls (set_view), which include the reference renders
-            s = scene.selector
-            s.SetObjectToViewMatrix(ov)
-            s.SetPreviousObjectToViewMatrix(prev)
-            s.HasPreviousFrameOn()
-            s.SetPreviousFrameTime(max(prev_time, 1e-4))
             data, tris, sel, pat = scene.lod()
             img, rms = scene.render(data)
             work = sel + pat + rms
         frames.append((start + work / 1e3, img, tris, work, sel, pat, rms, start))
-        prev, prev_time = ov, work / 1e3
         start += work / 1e3
     values = []
     for k in range(instants + 1):
@@ -695,22 +706,20 @@ def moving_at_budget(scene, name, kind, dt, distance, instants, references, budg
     s.SetFrameInterval(dt)
     s.SetTriangleBudget(budget)
     offset, angle, dist = movement(scene, kind, -2 * dt, distance)
-    prev = scene.set_view(dist, offset, angle)
+    scene.start_clock()
+    scene.at(-2 * dt)
+    scene.set_view(dist, offset, angle)
     values, triangles, times, counted = [], [], [], []
     for k in range(instants + 1):
         offset, angle, dist = movement(scene, kind, (k - 1) * dt, distance)
-        ov = scene.set_view(dist, offset, angle)
-        s.SetObjectToViewMatrix(ov)
-        s.SetPreviousObjectToViewMatrix(prev)
-        s.HasPreviousFrameOn()
-        s.SetPreviousFrameTime(dt)
+        scene.at((k - 1) * dt)  # the motion over dt, on the display's clock
+        scene.set_view(dist, offset, angle)
         data, tris, sel, pat = scene.lod()
         img, rms = scene.render(data)
         values.append(metrics.psnr(references[k], img))
         triangles.append(tris)
         times.append(sel + pat + rms)
         counted.append(s.GetNumberOfBudgetTriangles())
-        prev = ov
     s.SetTriangleBudget(0)
     finite = [v for v in values if math.isfinite(v)]
     return (float(np.mean(finite)) if finite else float('inf'),

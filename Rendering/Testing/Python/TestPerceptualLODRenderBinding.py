@@ -53,6 +53,38 @@ class TestBinding(unittest.TestCase):
         del binding
         self.assertFalse(renderer.HasObserver(vtkCommand.StartEvent))
 
+    def test_simulated_time(self):
+        """A script's own clock: the frame time the motion models read is the simulated one,
+        whatever the wall clock did between the pushes; the wall clock comes back after."""
+        source = vtkSphereSource()
+        builder = vtkMultiscaleOctreeBuilder()
+        builder.SetInputConnection(source.GetOutputPort())
+        selector = vtkPerceptualLODSelector()
+        selector.SetInputConnection(builder.GetOutputPort())
+        selector.SetMotionModelToMicroMotion()
+        actor = vtkActor()
+        renderer = vtkRenderer()
+        window = vtkRenderWindow()
+        window.SetOffScreenRendering(1)
+        window.SetSize(300, 200)
+        window.AddRenderer(renderer)
+        binding = vtkPerceptualLODRenderBinding()
+        binding.EnabledOff()  # pushed by hand below
+        binding.SetSelector(selector)
+        source.Update()
+        renderer.ResetCamera(source.GetOutput().GetBounds())
+        for t, seconds in ((0, 10.0), (1, 10.04), (2, 10.065)):
+            binding.SetSimulatedTime(seconds)
+            actor.SetPosition(0.01 * t, 0, 0)  # the object moves: the frame time is pushed
+            binding.UpdateFrom(renderer, actor)
+        self.assertAlmostEqual(selector.GetPreviousFrameTime(), 0.025, places=12)
+        self.assertAlmostEqual(binding.GetMeasuredFrameTime(), 0.025, places=12)
+        binding.UseWallClock()
+        actor.SetPosition(0.05, 0, 0)
+        binding.UpdateFrom(renderer, actor)
+        # from the simulated 10.065 s to the wall clock's seconds since 1970
+        self.assertGreater(selector.GetPreviousFrameTime(), 1e9)
+
 
 if __name__ == '__main__':
     unittest.main()
