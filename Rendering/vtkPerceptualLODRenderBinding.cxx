@@ -349,9 +349,6 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
     return;
   }
   const double start = this->Now();
-  vtkCamera* camera = ren->GetActiveCamera();
-
-  // ---- view, in world coordinates, with the prop's matrix as object -> world -------------------
   double objectToWorld[16];
   if (prop)
   {
@@ -361,6 +358,33 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
   {
     vtkMatrix4x4::Identity(objectToWorld);
   }
+  this->PushView(ren, objectToWorld);
+  this->PushLights(ren);
+  if (vtkActor* actor = vtkActor::SafeDownCast(prop))
+  {
+    this->PushMaterial(actor->GetProperty());
+  }
+  this->PushMotion(ren->GetActiveCamera(), objectToWorld, start);
+  // the frame-time target
+  if (!this->ExternalSteering)
+  {
+    this->SteerBudget();
+  }
+  if (this->TargetFrameTime > 0)
+  {
+    this->WatchWindow(ren->GetRenderWindow()); // the frame ends there (PreviousStart: its start)
+    this->FrameStarted = true;
+  }
+  ++this->NumberOfUpdates;
+  this->LastUpdateTime = this->Now() - start;
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::PushView(vtkRenderer* ren, const double objectToWorld[16])
+{
+  // in world coordinates, with the prop's matrix as object -> world
+  vtkPerceptualLODSelector* sel = this->Selector;
+  vtkCamera* camera = ren->GetActiveCamera();
   sel->CoordinatesAreWorldOn();
   sel->SetObjectToWorldMatrix(objectToWorld);
   int width = 0, height = 0, x0 = 0, y0 = 0;
@@ -378,9 +402,13 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
   sel->SetParallelProjection(camera->GetParallelProjection() != 0);
   sel->SetParallelScale(camera->GetParallelScale());
   sel->SetProjectionDirection(camera->GetDirectionOfProjection());
+}
 
-  // ---- lights
-  // ------------------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::PushLights(vtkRenderer* ren)
+{
+  vtkPerceptualLODSelector* sel = this->Selector;
+  vtkCamera* camera = ren->GetActiveCamera();
   struct L
   {
     bool Positional;
@@ -436,17 +464,22 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
     const L& l = lights[i];
     sel->SetLight(static_cast<int>(i), l.Positional, l.X[0], l.X[1], l.X[2], l.Diffuse, l.Specular);
   }
+}
 
-  // ---- material --------------------------------------------------------------------------------
-  if (vtkActor* actor = vtkActor::SafeDownCast(prop))
-  {
-    vtkProperty* p = actor->GetProperty();
-    sel->SetDiffuseReflectance(p->GetDiffuse() * Luminance(p->GetDiffuseColor()));
-    sel->SetSpecularReflectance(p->GetSpecular() * Luminance(p->GetSpecularColor()));
-    sel->SetSpecularPower(p->GetSpecularPower());
-  }
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::PushMaterial(vtkProperty* p)
+{
+  vtkPerceptualLODSelector* sel = this->Selector;
+  sel->SetDiffuseReflectance(p->GetDiffuse() * Luminance(p->GetDiffuseColor()));
+  sel->SetSpecularReflectance(p->GetSpecular() * Luminance(p->GetSpecularColor()));
+  sel->SetSpecularPower(p->GetSpecularPower());
+}
 
-  // ---- motion ----------------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+void vtkPerceptualLODRenderBinding::PushMotion(
+  vtkCamera* camera, const double objectToWorld[16], double start)
+{
+  vtkPerceptualLODSelector* sel = this->Selector;
   // Pushed only when the selector's motion model uses it, so that a camera coming to rest does
   // not re-execute a selector that ignores motion.
   double view[16], objectToView[16];
@@ -483,19 +516,6 @@ void vtkPerceptualLODRenderBinding::UpdateFrom(vtkRenderer* ren, vtkProp3D* prop
   std::copy(objectToView, objectToView + 16, this->PreviousObjectToView);
   this->PreviousStart = start;
   this->HasPrevious = true;
-
-  // ---- frame-time target ---------------------------------------------------------------------
-  if (!this->ExternalSteering)
-  {
-    this->SteerBudget();
-  }
-  if (this->TargetFrameTime > 0)
-  {
-    this->WatchWindow(ren->GetRenderWindow()); // the frame ends there (PreviousStart: its start)
-    this->FrameStarted = true;
-  }
-  ++this->NumberOfUpdates;
-  this->LastUpdateTime = this->Now() - start;
 }
 
 //------------------------------------------------------------------------------

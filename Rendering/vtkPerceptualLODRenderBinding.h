@@ -63,8 +63,10 @@
 #include <functional> // for the clock
 
 class vtkCallbackCommand;
+class vtkCamera;
 class vtkPerceptualLODSelector;
 class vtkProp3D;
+class vtkProperty;
 class vtkRenderWindow;
 class vtkRenderer;
 
@@ -200,6 +202,15 @@ protected:
   void WatchWindow(vtkRenderWindow* window);
   /// The frame-time target's step: the next budget from the last frame's cost.
   void SteerBudget();
+  ///@{
+  /// The steps of UpdateFrom: the camera and viewport (with the prop's matrix), the lights,
+  /// the actor's material, and the motion since the last push (only for a selector with a
+  /// motion model, measured on the clock from `start`, this push's time).
+  void PushView(vtkRenderer* ren, const double objectToWorld[16]);
+  void PushLights(vtkRenderer* ren);
+  void PushMaterial(vtkProperty* property);
+  void PushMotion(vtkCamera* camera, const double objectToWorld[16], double start);
+  ///@}
 
   vtkRenderer* Renderer;
   vtkPerceptualLODSelector* Selector;
