@@ -611,6 +611,178 @@ FileChange CompareFileIdentity(const FileIdentity& opened, std::string* why)
   return FileChange::Same;
 }
 
+namespace
+{
+/// The file's bytes: a private (copy-on-write) map when asked and possible, else a buffer read
+/// from `fd`; null with `why` when neither works.
+std::shared_ptr<void> LoadBytes(int fd, uint64_t size, bool mapFile, bool& mapped, std::string& why)
+{
+  mapped = false;
+  if (mapFile && HostIsLittleEndian())
+  {
+    void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE, fd, 0);
+    if (p != MAP_FAILED)
+    {
+      mapped = true;
+      return std::shared_ptr<void>(p, [size](void* q) { ::munmap(q, size); });
+    }
+  }
+  void* p = ::operator new(size, std::nothrow);
+  if (!p)
+  {
+    why = "not enough memory to read " + std::to_string(size) + " bytes";
+    return nullptr;
+  }
+  std::shared_ptr<void> memory(p, [](void* q) { ::operator delete(q); });
+  uint64_t got = 0;
+  while (got < size)
+  {
+    const ssize_t n = ::pread(fd, static_cast<char*>(p) + got, size - got, off_t(got));
+    if (n <= 0)
+    {
+      why = "read failed after " + std::to_string(got) + " bytes";
+      return nullptr;
+    }
+    got += static_cast<uint64_t>(n);
+  }
+  return memory;
+}
+
+/// The header of the `size` bytes: magic, version, byte order, directory size, checksum, the
+/// stated size, then the root cube and the counts into `h`; `count` receives the number of
+/// arrays. "" or what is wrong.
+std::string ReadHeader(
+  const unsigned char* bytes, uint64_t size, OctreeFileHeader& h, uint32_t& count)
+{
+  if (std::memcmp(bytes, Magic, 8) != 0)
+  {
+    return "not an octree file (it does not start with PLODOCT)";
+  }
+  const uint32_t version = Get<uint32_t>(bytes + 8);
+  if (version != Version)
+  {
+    return "octree file format version " + std::to_string(version) +
+      "; this reader knows version " + std::to_string(Version);
+  }
+  if (Get<uint32_t>(bytes + 12) != ByteOrderMark)
+  {
+    return "corrupt header (byte-order mark)";
+  }
+  const uint32_t headerSize = Get<uint32_t>(bytes + 16);
+  count = Get<uint32_t>(bytes + 20);
+  if (count > MaxArrays || headerSize != HeaderBytes + EntryBytes * count || headerSize > size)
+  {
+    return "corrupt header (" + std::to_string(count) + " arrays, header of " +
+      std::to_string(headerSize) + " bytes in a file of " + std::to_string(size) + ")";
+  }
+  if (Get<uint32_t>(bytes + 120) != HeaderChecksum(bytes, headerSize))
+  {
+    return "corrupt header (checksum mismatch)";
+  }
+  const uint64_t statedSize = Get<uint64_t>(bytes + 112);
+  if (statedSize != size)
+  {
+    return std::string(size < statedSize ? "truncated" : "longer than written") + ": " +
+      std::to_string(size) + " bytes, the header says " + std::to_string(statedSize);
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    h.Origin[k] = Get<double>(bytes + 24 + 8 * k);
+  }
+  h.RootEdge = Get<double>(bytes + 48);
+  h.FinestLevel = Get<int32_t>(bytes + 56);
+  h.HasMaterialArrays = (Get<uint32_t>(bytes + 60) & 1u) != 0;
+  int64_t* counts[6] = { &h.Nodes, &h.Points, &h.Triangles, &h.Clusters, &h.BoundaryEdges,
+    &h.NonManifoldEdges };
+  for (int k = 0; k < 6; ++k)
+  {
+    *counts[k] = Get<int64_t>(bytes + 64 + 8 * k);
+  }
+  h.MisorientedEdges = Get<uint32_t>(bytes + 124);
+  const int64_t maxIndex = std::numeric_limits<int32_t>::max();
+  if (!(std::isfinite(h.Origin[0]) && std::isfinite(h.Origin[1]) && std::isfinite(h.Origin[2]) &&
+        std::isfinite(h.RootEdge) && h.RootEdge > 0) ||
+    h.FinestLevel < 0 || h.FinestLevel > 21 || h.Nodes < 0 || h.Nodes > maxIndex || h.Points < 0 ||
+    h.Points > maxIndex || h.Triangles < 0 || h.Triangles > maxIndex || h.Clusters < 0 ||
+    h.Clusters > maxIndex || h.BoundaryEdges < 0 || h.NonManifoldEdges < 0)
+  {
+    return "corrupt header (root cube, level or counts out of range)";
+  }
+  return std::string();
+}
+
+/// Array `a` of the directory: its entry checked against the header's counts and the file's
+/// size, its values brought to the host's byte order, their checksum verified when asked;
+/// `extent` receives the bytes it spans (empty for no values). "" or what is wrong.
+std::string ReadArray(unsigned char* bytes, uint64_t size, const OctreeFileHeader& h,
+  uint32_t count, uint32_t a, bool verifyChecksums, FileArray& f,
+  std::pair<uint64_t, uint64_t>& extent)
+{
+  const uint32_t headerSize = HeaderBytes + EntryBytes * count;
+  const unsigned char* e = bytes + HeaderBytes + EntryBytes * a;
+  const std::string at = "array " + std::to_string(a) + ": ";
+  if (std::memchr(e, 0, NameBytes) == nullptr)
+  {
+    return at + "name not terminated";
+  }
+  f.Name = reinterpret_cast<const char*>(e);
+  const uint8_t group = e[32], type = e[33];
+  f.Components = Get<uint16_t>(e + 34);
+  f.Tuples = Get<int64_t>(e + 40);
+  const uint64_t offset = Get<uint64_t>(e + 48);
+  f.Checksum = Get<uint64_t>(e + 56);
+  if (group > 3 || type < 1 || type > 4 || f.Components < 1 || f.Components > 16)
+  {
+    return at + "'" + f.Name + "' has an unknown group, type or component count";
+  }
+  f.Group = static_cast<FileArrayGroup>(group);
+  f.Type = static_cast<FileArrayType>(type);
+  const int64_t expected[4] = { h.Nodes, h.Clusters, h.Points, h.Triangles };
+  if (f.Tuples != expected[group])
+  {
+    return at + "'" + f.Name + "' has " + std::to_string(f.Tuples) +
+      " tuples where its group has " + std::to_string(expected[group]);
+  }
+  const uint64_t length =
+    uint64_t(f.Tuples) * uint64_t(f.Components) * uint64_t(FileTypeSize(f.Type));
+  extent = { offset, offset };
+  if (length == 0)
+  {
+    return std::string();
+  }
+  if (offset % Alignment != 0 || offset < headerSize || offset > size || length > size - offset)
+  {
+    return at + "'" + f.Name + "' lies outside the file (offset " + std::to_string(offset) + ", " +
+      std::to_string(length) + " bytes, file of " + std::to_string(size) + ")";
+  }
+  extent.second = offset + length;
+  f.Data = bytes + offset;
+  if (!HostIsLittleEndian())
+  {
+    SwapValues(bytes + offset, length, FileTypeSize(f.Type));
+  }
+  if (verifyChecksums)
+  {
+    uint64_t sum = 0;
+    if (HostIsLittleEndian())
+    {
+      sum = FileChecksum(bytes + offset, length);
+    }
+    else
+    {
+      std::vector<unsigned char> copy(bytes + offset, bytes + offset + length);
+      SwapValues(copy.data(), length, FileTypeSize(f.Type));
+      sum = FileChecksum(copy.data(), length);
+    }
+    if (sum != f.Checksum)
+    {
+      return at + "'" + f.Name + "' is corrupt (checksum mismatch)";
+    }
+  }
+  return std::string();
+}
+}
+
 bool OpenOctreeFile(
   const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out, std::string* error)
 {
@@ -641,162 +813,33 @@ bool OpenOctreeFile(
       where + "too short for an octree file (" + std::to_string(size) +
         " bytes; the header alone is 128)");
   }
-  // the bytes: a private (copy-on-write) map, or a buffer read from the file
-  std::shared_ptr<void> memory;
-  const bool map = mapFile && HostIsLittleEndian();
-  if (map)
-  {
-    void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE, file.Fd, 0);
-    if (p != MAP_FAILED)
-    {
-      memory = std::shared_ptr<void>(p, [size](void* q) { ::munmap(q, size); });
-      out.Mapped = true;
-    }
-  }
+  std::string why;
+  std::shared_ptr<void> memory = LoadBytes(file.Fd, size, mapFile, out.Mapped, why);
   if (!memory)
   {
-    void* p = ::operator new(size, std::nothrow);
-    if (!p)
-    {
-      return Fail(error, where + "not enough memory to read " + std::to_string(size) + " bytes");
-    }
-    memory = std::shared_ptr<void>(p, [](void* q) { ::operator delete(q); });
-    uint64_t got = 0;
-    while (got < size)
-    {
-      const ssize_t n = ::pread(file.Fd, static_cast<char*>(p) + got, size - got, off_t(got));
-      if (n <= 0)
-      {
-        return Fail(error, where + "read failed after " + std::to_string(got) + " bytes");
-      }
-      got += static_cast<uint64_t>(n);
-    }
+    return Fail(error, where + why);
   }
   unsigned char* bytes = static_cast<unsigned char*>(memory.get());
-
-  if (std::memcmp(bytes, Magic, 8) != 0)
+  uint32_t count = 0;
+  why = ReadHeader(bytes, size, out.Header, count);
+  if (!why.empty())
   {
-    return Fail(error, where + "not an octree file (it does not start with PLODOCT)");
+    return Fail(error, where + why);
   }
-  const uint32_t version = Get<uint32_t>(bytes + 8);
-  if (version != Version)
-  {
-    return Fail(error,
-      where + "octree file format version " + std::to_string(version) +
-        "; this reader knows version " + std::to_string(Version));
-  }
-  if (Get<uint32_t>(bytes + 12) != ByteOrderMark)
-  {
-    return Fail(error, where + "corrupt header (byte-order mark)");
-  }
-  const uint32_t headerSize = Get<uint32_t>(bytes + 16);
-  const uint32_t count = Get<uint32_t>(bytes + 20);
-  if (count > MaxArrays || headerSize != HeaderBytes + EntryBytes * count || headerSize > size)
-  {
-    return Fail(error,
-      where + "corrupt header (" + std::to_string(count) + " arrays, header of " +
-        std::to_string(headerSize) + " bytes in a file of " + std::to_string(size) + ")");
-  }
-  if (Get<uint32_t>(bytes + 120) != HeaderChecksum(bytes, headerSize))
-  {
-    return Fail(error, where + "corrupt header (checksum mismatch)");
-  }
-  const uint64_t statedSize = Get<uint64_t>(bytes + 112);
-  if (statedSize != size)
-  {
-    return Fail(error,
-      where + (size < statedSize ? "truncated" : "longer than written") + ": " +
-        std::to_string(size) + " bytes, the header says " + std::to_string(statedSize));
-  }
-  OctreeFileHeader& h = out.Header;
-  for (int k = 0; k < 3; ++k)
-  {
-    h.Origin[k] = Get<double>(bytes + 24 + 8 * k);
-  }
-  h.RootEdge = Get<double>(bytes + 48);
-  h.FinestLevel = Get<int32_t>(bytes + 56);
-  h.HasMaterialArrays = (Get<uint32_t>(bytes + 60) & 1u) != 0;
-  int64_t* counts[6] = { &h.Nodes, &h.Points, &h.Triangles, &h.Clusters, &h.BoundaryEdges,
-    &h.NonManifoldEdges };
-  for (int k = 0; k < 6; ++k)
-  {
-    *counts[k] = Get<int64_t>(bytes + 64 + 8 * k);
-  }
-  h.MisorientedEdges = Get<uint32_t>(bytes + 124);
-  const int64_t maxIndex = std::numeric_limits<int32_t>::max();
-  if (!(std::isfinite(h.Origin[0]) && std::isfinite(h.Origin[1]) && std::isfinite(h.Origin[2]) &&
-        std::isfinite(h.RootEdge) && h.RootEdge > 0) ||
-    h.FinestLevel < 0 || h.FinestLevel > 21 || h.Nodes < 0 || h.Nodes > maxIndex || h.Points < 0 ||
-    h.Points > maxIndex || h.Triangles < 0 || h.Triangles > maxIndex || h.Clusters < 0 ||
-    h.Clusters > maxIndex || h.BoundaryEdges < 0 || h.NonManifoldEdges < 0)
-  {
-    return Fail(error, where + "corrupt header (root cube, level or counts out of range)");
-  }
-
+  // the directory: every array checked, then no two overlapping
   std::vector<std::pair<uint64_t, uint64_t>> extents;
   for (uint32_t a = 0; a < count; ++a)
   {
-    const unsigned char* e = bytes + HeaderBytes + EntryBytes * a;
-    const std::string at = where + "array " + std::to_string(a) + ": ";
-    if (std::memchr(e, 0, NameBytes) == nullptr)
-    {
-      return Fail(error, at + "name not terminated");
-    }
     FileArray f;
-    f.Name = reinterpret_cast<const char*>(e);
-    const uint8_t group = e[32], type = e[33];
-    f.Components = Get<uint16_t>(e + 34);
-    f.Tuples = Get<int64_t>(e + 40);
-    const uint64_t offset = Get<uint64_t>(e + 48);
-    f.Checksum = Get<uint64_t>(e + 56);
-    if (group > 3 || type < 1 || type > 4 || f.Components < 1 || f.Components > 16)
+    std::pair<uint64_t, uint64_t> extent;
+    why = ReadArray(bytes, size, out.Header, count, a, verifyChecksums, f, extent);
+    if (!why.empty())
     {
-      return Fail(error, at + "'" + f.Name + "' has an unknown group, type or component count");
+      return Fail(error, where + why);
     }
-    f.Group = static_cast<FileArrayGroup>(group);
-    f.Type = static_cast<FileArrayType>(type);
-    const int64_t expected[4] = { h.Nodes, h.Clusters, h.Points, h.Triangles };
-    if (f.Tuples != expected[group])
+    if (extent.second > extent.first)
     {
-      return Fail(error,
-        at + "'" + f.Name + "' has " + std::to_string(f.Tuples) + " tuples where its group has " +
-          std::to_string(expected[group]));
-    }
-    const uint64_t length =
-      uint64_t(f.Tuples) * uint64_t(f.Components) * uint64_t(FileTypeSize(f.Type));
-    if (length > 0 &&
-      (offset % Alignment != 0 || offset < headerSize || offset > size || length > size - offset))
-    {
-      return Fail(error,
-        at + "'" + f.Name + "' lies outside the file (offset " + std::to_string(offset) + ", " +
-          std::to_string(length) + " bytes, file of " + std::to_string(size) + ")");
-    }
-    if (length > 0)
-    {
-      extents.emplace_back(offset, offset + length);
-      f.Data = bytes + offset;
-      if (!HostIsLittleEndian())
-      {
-        SwapValues(bytes + offset, length, FileTypeSize(f.Type));
-      }
-      if (verifyChecksums)
-      {
-        uint64_t sum = 0;
-        if (HostIsLittleEndian())
-        {
-          sum = FileChecksum(bytes + offset, length);
-        }
-        else
-        {
-          std::vector<unsigned char> copy(bytes + offset, bytes + offset + length);
-          SwapValues(copy.data(), length, FileTypeSize(f.Type));
-          sum = FileChecksum(copy.data(), length);
-        }
-        if (sum != f.Checksum)
-        {
-          return Fail(error, at + "'" + f.Name + "' is corrupt (checksum mismatch)");
-        }
-      }
+      extents.push_back(extent);
     }
     out.Arrays.push_back(f);
   }
