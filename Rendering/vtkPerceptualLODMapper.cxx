@@ -128,7 +128,6 @@ struct vtkPerceptualLODMapper::Resident
   // with ghosts: GhostLedBefore[t], the triangles before t whose lead corner is a ghost (they
   // are uploaded as points); empty without ghosts
   std::vector<int64_t> GhostLedBefore;
-  std::vector<unsigned int> Indices; // the index buffer while it is made
   std::vector<GLsizei> DrawCounts;
   std::vector<const void*> DrawOffsets;
   plod::PatchWorkspace Workspace;
@@ -207,6 +206,12 @@ void vtkPerceptualLODMapper::SetSimulatedRendererName(const char* name)
 //------------------------------------------------------------------------------
 bool vtkPerceptualLODMapper::IsSoftwareRenderer(vtkRenderWindow* window)
 {
+  // the context's renderer does not change: read once per window (the actor asks every frame)
+  if (this->SimulatedRendererName.empty() && window && window == this->RendererWindow)
+  {
+    return this->SoftwareRenderer;
+  }
+  this->RendererWindow = nullptr;
   this->RendererName = this->SimulatedRendererName;
   if (this->RendererName.empty())
   {
@@ -218,8 +223,16 @@ bool vtkPerceptualLODMapper::IsSoftwareRenderer(vtkRenderWindow* window)
     gl->MakeCurrent();
     const GLubyte* name = glGetString(GL_RENDERER);
     this->RendererName = name ? reinterpret_cast<const char*>(name) : "";
+    this->RendererWindow = window;
   }
-  std::string lower = this->RendererName;
+  this->SoftwareRenderer = IsSoftwareRendererName(this->RendererName);
+  return this->SoftwareRenderer;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPerceptualLODMapper::IsSoftwareRendererName(const std::string& name)
+{
+  std::string lower = name;
   std::transform(lower.begin(), lower.end(), lower.begin(),
     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   for (const char* software : { "llvmpipe", "softpipe", "swrast", "software rasterizer",
@@ -368,21 +381,19 @@ void vtkPerceptualLODMapper::BuildIBO(vtkRenderer*, vtkActor*, vtkPolyData*)
 {
   // the octree's triangles as they are, one for one, so that a range of the owner-sorted array
   // is a range of the buffer (VTK's own index buffer skips triangles with coincident corners)
-  Resident& r = *this->Internal;
-  const plod::OctreeView& v = r.View;
+  const plod::OctreeView& v = this->Internal->View;
   for (vtkOpenGLHelper& primitive : this->Primitives)
   {
     primitive.IBO->IndexCount = 0;
   }
-  r.Indices.assign(v.Triangles, v.Triangles + 3 * v.NumberOfTriangles);
-  this->CollapseGhostLedTriangles(r.Indices.data());
+  std::vector<unsigned int> indices(v.Triangles, v.Triangles + 3 * v.NumberOfTriangles);
+  this->CollapseGhostLedTriangles(indices.data());
   vtkOpenGLIndexBufferObject* ibo = this->Primitives[PrimitiveTris].IBO;
-  if (!r.Indices.empty())
+  if (!indices.empty())
   {
-    ibo->Upload(r.Indices, vtkOpenGLBufferObject::ElementArrayBuffer);
+    ibo->Upload(indices, vtkOpenGLBufferObject::ElementArrayBuffer);
   }
-  ibo->IndexCount = r.Indices.size();
-  r.Indices = std::vector<unsigned int>(); // the GPU holds them
+  ibo->IndexCount = indices.size();
 }
 
 //------------------------------------------------------------------------------
@@ -693,6 +704,7 @@ void vtkPerceptualLODMapper::ReleaseGraphicsResources(vtkWindow* window)
   r.ResidentValid = false;
   r.Uploaded.clear();
   r.CutKey = {};
+  this->RendererWindow = nullptr; // its context may go with it
   this->Superclass::ReleaseGraphicsResources(window);
 }
 

@@ -109,6 +109,8 @@ public:
    * GetRendererName() is the renderer string read.
    */
   bool IsSoftwareRenderer(vtkRenderWindow* window);
+  /// Whether an OpenGL renderer string names one of the software rasterizers above.
+  static bool IsSoftwareRendererName(const std::string& name);
   const char* GetRendererName() { return this->RendererName.c_str(); }
 
   /**
@@ -169,6 +171,8 @@ protected:
   std::string SimulatedMissingFeature;
   std::string RendererName;
   std::string SimulatedRendererName;
+  vtkRenderWindow* RendererWindow = nullptr; // whose renderer RendererName is (not held)
+  bool SoftwareRenderer = false;
   int FoldHandling = 2;
 
 private:

@@ -29,6 +29,14 @@ class vtkPerceptualLODRenderBinding::vtkInternals
 public:
   plod::BudgetController Controller;
   unsigned long DeleteTag = 0; // the window's DeleteEvent observer
+  /// The renderer's lights as the selector takes them, kept between frames (no allocation).
+  struct Light
+  {
+    bool Positional;
+    double X[3];
+    double Diffuse, Specular;
+  };
+  std::vector<Light> Lights;
 };
 
 namespace
@@ -409,13 +417,9 @@ void vtkPerceptualLODRenderBinding::PushLights(vtkRenderer* ren)
 {
   vtkPerceptualLODSelector* sel = this->Selector;
   vtkCamera* camera = ren->GetActiveCamera();
-  struct L
-  {
-    bool Positional;
-    double X[3];
-    double Diffuse, Specular;
-  };
-  std::vector<L> lights;
+  using L = vtkInternals::Light;
+  std::vector<L>& lights = this->Internals->Lights;
+  lights.clear();
   vtkLightCollection* collection = ren->GetLights();
   if (collection->GetNumberOfItems() == 0 && ren->GetAutomaticLightCreation())
   {

@@ -62,6 +62,17 @@ struct View
   }
 };
 
+/// The octree of `model` at the builder's defaults, a copy of its own (tests edit its arrays).
+vtkSmartPointer<vtkMultiscaleOctree> BuildOctree(vtkPolyData* model)
+{
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(model);
+  builder->Update();
+  auto octree = vtkSmartPointer<vtkMultiscaleOctree>::New();
+  octree->DeepCopy(builder->GetOutput());
+  return octree;
+}
+
 /// Pixels covered in `a` (not the background of its first pixel), and pixels where `a` and `b`
 /// differ by more than 8 in a channel.
 std::pair<int, int> CoveredAndDiffering(
@@ -130,11 +141,7 @@ TEST(PerceptualLODMapper, RandomCutsDrawTheCPUPathsImageAndTriangles)
   for (const auto& model : models)
   {
     ASSERT_NE(model.second, nullptr) << model.first;
-    vtkNew<vtkMultiscaleOctreeBuilder> builder;
-    builder->SetInputData(model.second);
-    builder->Update();
-    vtkNew<vtkMultiscaleOctree> octree;
-    octree->ShallowCopy(builder->GetOutput());
+    vtkSmartPointer<vtkMultiscaleOctree> octree = BuildOctree(model.second);
     plod::OctreeView v;
     ASSERT_TRUE(octree->GetView(v)) << model.first;
     vtkNew<vtkTrivialProducer> source;
@@ -205,11 +212,7 @@ TEST(PerceptualLODMapper, RandomCutsDrawTheCPUPathsImageAndTriangles)
 TEST(PerceptualLODMapper, GhostLedTrianglesAreNotDrawn)
 {
   auto blob = plodtest::MakeBlob(5, 60, 0.3);
-  vtkNew<vtkMultiscaleOctreeBuilder> builder;
-  builder->SetInputData(blob);
-  builder->Update();
-  vtkNew<vtkMultiscaleOctree> octree;
-  octree->DeepCopy(builder->GetOutput());
+  vtkSmartPointer<vtkMultiscaleOctree> octree = BuildOctree(blob);
   // every third point a ghost, in runs (as a piece of a distributed mesh has them)
   octree->AllocatePointGhosts();
   auto* ghosts = vtkUnsignedCharArray::SafeDownCast(
@@ -260,11 +263,7 @@ TEST(PerceptualLODMapper, GhostLedTrianglesAreNotDrawn)
 TEST(PerceptualLODMapper, StillFramesUploadNothingAndChangesUploadTheirSpans)
 {
   auto blob = plodtest::MakeBlob(4, 80, 0.3);
-  vtkNew<vtkMultiscaleOctreeBuilder> builder;
-  builder->SetInputData(blob);
-  builder->Update();
-  vtkNew<vtkMultiscaleOctree> octree;
-  octree->ShallowCopy(builder->GetOutput());
+  vtkSmartPointer<vtkMultiscaleOctree> octree = BuildOctree(blob);
   plod::OctreeView v;
   ASSERT_TRUE(octree->GetView(v));
   vtkNew<vtkTrivialProducer> source;
