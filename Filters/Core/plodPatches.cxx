@@ -391,21 +391,19 @@ std::pair<int64_t, int64_t> OwnedTriangles(const OctreeView& v, int64_t node)
     std::min<int64_t>(v.NumberOfTriangles, v.TriangleEnd(node)) };
 }
 
-/// The owned triangles of the refined nodes decided in ranges that may run in parallel (each
-/// range's decisions kept in order), then emitted in order: the same output as one pass.
-bool DecideInParallel(const OctreeView& v, const TriangleJudge& judge, PatchWorkspace& ws,
-  PatchEmitter& emit, const PatchOptions& options, std::string& error)
+/// Splits the refined nodes (ws.Refined) into ranges holding about `perRange` owned triangles
+/// each, range r from ws.RangeBounds[r] to ws.RangeBounds[r + 1]; returns how many.
+int64_t SplitIntoRanges(const OctreeView& v, PatchWorkspace& ws, int64_t perRange)
 {
   const std::vector<int32_t>& refined = ws.Refined;
-  // ranges of refined nodes holding about the same number of triangles
-  const size_t perRange = static_cast<size_t>(std::max<int64_t>(1, options.TrianglesPerRange));
+  const size_t per = static_cast<size_t>(std::max<int64_t>(1, perRange));
   std::vector<size_t>& bounds = ws.RangeBounds;
   bounds.assign(1, 0);
   for (size_t i = 0, sum = 0; i < refined.size(); ++i)
   {
     const auto r = OwnedTriangles(v, refined[i]);
     sum += static_cast<size_t>(std::max<int64_t>(0, r.second - r.first));
-    if (sum >= perRange || i + 1 == refined.size())
+    if (sum >= per || i + 1 == refined.size())
     {
       bounds.push_back(i + 1);
       sum = 0;
@@ -417,25 +415,44 @@ bool DecideInParallel(const OctreeView& v, const TriangleJudge& judge, PatchWork
     ws.Decisions.resize(static_cast<size_t>(ranges));
     ws.RangeErrors.resize(static_cast<size_t>(ranges));
   }
+  return ranges;
+}
+
+/// Decides the owned triangles of range r's refined nodes in order, each passed to `take`,
+/// until a decision fails; its error in ws.RangeErrors[r] (cleared first).
+template <class Take>
+void DecideRange(
+  const OctreeView& v, const TriangleJudge& judge, PatchWorkspace& ws, int64_t r, Take&& take)
+{
+  std::string& rangeError = ws.RangeErrors[r];
+  rangeError.clear();
+  for (size_t i = ws.RangeBounds[r]; i < ws.RangeBounds[r + 1] && rangeError.empty(); ++i)
+  {
+    const auto owned = OwnedTriangles(v, ws.Refined[i]);
+    for (int64_t t = owned.first; t < owned.second; ++t)
+    {
+      const Decision d = judge.Decide(t, rangeError);
+      take(d);
+      if (d.What == Decision::Failed)
+      {
+        break;
+      }
+    }
+  }
+}
+
+/// The owned triangles of the refined nodes decided in ranges that may run in parallel (each
+/// range's decisions kept in order), then emitted in order: the same output as one pass.
+bool DecideInParallel(const OctreeView& v, const TriangleJudge& judge, PatchWorkspace& ws,
+  PatchEmitter& emit, const PatchOptions& options, std::string& error)
+{
+  const int64_t ranges = SplitIntoRanges(v, ws, options.TrianglesPerRange);
   options.For(ranges, 1, [&](int64_t begin, int64_t end) {
     for (int64_t r = begin; r < end; ++r)
     {
       std::vector<Decision>& decided = ws.Decisions[r];
-      std::string& rangeError = ws.RangeErrors[r];
       decided.clear();
-      rangeError.clear();
-      for (size_t i = bounds[r]; i < bounds[r + 1] && rangeError.empty(); ++i)
-      {
-        const auto owned = OwnedTriangles(v, refined[i]);
-        for (int64_t t = owned.first; t < owned.second; ++t)
-        {
-          decided.push_back(judge.Decide(t, rangeError));
-          if (decided.back().What == Decision::Failed)
-          {
-            break;
-          }
-        }
-      }
+      DecideRange(v, judge, ws, r, [&decided](const Decision& d) { decided.push_back(d); });
     }
   });
   for (int64_t r = 0; r < ranges; ++r)
@@ -535,6 +552,67 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   }
 #endif
   return true;
+}
+
+int64_t CountDrawnTriangles(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
+  const PatchOptions& options, PatchWorkspace& ws, std::string* why)
+{
+  if (v.NumberOfNodes == 0)
+  {
+    return 0;
+  }
+  if (static_cast<int64_t>(ws.Reached.size()) != v.NumberOfNodes)
+  {
+    ws.Reached.assign(v.NumberOfNodes, 0);
+    ws.Touched.clear();
+  }
+  // GeneratePatches' walk and decisions, each range counted alone (in parallel with For)
+  PatchResult counters;
+  std::string error;
+  bool ok = WalkAboveTheCut(v, state, ws, counters, error);
+  const TriangleJudge judge(v, state, cullMask, ws.Reached.data(), options);
+  const int64_t ranges = ok ? SplitIntoRanges(v, ws, options.TrianglesPerRange) : 0;
+  std::vector<int64_t> drawn(static_cast<size_t>(ranges), 0);
+  const auto countRanges = [&](int64_t begin, int64_t end) {
+    for (int64_t r = begin; r < end; ++r)
+    {
+      DecideRange(v, judge, ws, r, [&drawn, r](const Decision& d) {
+        drawn[r] += d.What == Decision::Draw || d.What == Decision::DrawFold ? 1 : 0;
+      });
+    }
+  };
+  if (options.For)
+  {
+    options.For(ranges, 1, countRanges);
+  }
+  else
+  {
+    countRanges(0, ranges);
+  }
+  int64_t total = 0;
+  for (int64_t r = 0; r < ranges && ok; ++r)
+  {
+    total += drawn[r];
+    if (!ws.RangeErrors[r].empty())
+    {
+      error = ws.RangeErrors[r];
+      ok = false;
+    }
+  }
+  for (int32_t n : ws.Touched)
+  {
+    ws.Reached[n] = 0;
+  }
+  ws.Touched.clear();
+  if (!ok)
+  {
+    if (why)
+    {
+      *why = error;
+    }
+    return -1;
+  }
+  return total;
 }
 
 bool DrawnTriangleRanges(const OctreeView& v, const uint8_t* state, std::vector<int64_t>& first,

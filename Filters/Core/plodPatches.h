@@ -161,6 +161,15 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   const PatchOptions& options = PatchOptions());
 
 /**
+ * How many triangles GeneratePatches would output for the cut `state` with `options` (folds
+ * drawn or dropped, back faces, hidden cells and ghosts decided as it decides them), without
+ * making them: its walk and its per-triangle rules, not its output. -1 (and `why`) on an
+ * invalid cut.
+ */
+int64_t CountDrawnTriangles(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
+  const PatchOptions& options, PatchWorkspace& workspace, std::string* why = nullptr);
+
+/**
  * The triangles a cut draws, as ranges of the owner-sorted triangle array (the GPU path: the
  * triangles stay on the device and only these ranges are drawn, each corner moved to its
  * representative by the vertex shader). Those owned by the refined nodes and by the opened

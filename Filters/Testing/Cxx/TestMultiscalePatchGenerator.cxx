@@ -1197,6 +1197,8 @@ TEST(MultiscalePatchGenerator, PiecesWithGhostsDrawTheWholeOnce)
 
 // The parallel phase decides the owned triangles in ranges run in any order: the output is the
 // serial one, point for point and counter for counter, whatever the ranges and their order.
+// CountDrawnTriangles (the selector's exact budget) counts that output exactly, serial or in
+// ranges, and finds the same error in an invalid cut.
 TEST(MultiscalePatchGenerator, ParallelRangesGiveTheSerialOutput)
 {
   // a ParallelFor that runs its ranges backwards (as a thread pool may), in ranges of `grain`
@@ -1245,6 +1247,12 @@ TEST(MultiscalePatchGenerator, ParallelRangesGiveTheSerialOutput)
       EXPECT_EQ(a.Folds, c.Folds) << what;
       EXPECT_EQ(a.BackFacesCulled, c.BackFacesCulled) << what;
       compared += a.Triangles.empty() ? 0 : 1;
+      // the count alone (the selector's exact budget), serial and in ranges: what is drawn
+      const int64_t drawn = static_cast<int64_t>(a.Triangles.size() / 3);
+      EXPECT_EQ(plod::CountDrawnTriangles(v, cut.data(), mask.data(), serial, serialWs), drawn)
+        << what;
+      EXPECT_EQ(plod::CountDrawnTriangles(v, cut.data(), mask.data(), parallel, parallelWs), drawn)
+        << what;
     }
     // an invalid cut (a level-1 node in the cut above the level-2 cut): the same first error
     std::vector<uint8_t> bad(v.NumberOfNodes);
@@ -1259,6 +1267,10 @@ TEST(MultiscalePatchGenerator, ParallelRangesGiveTheSerialOutput)
     const bool okC = plod::GeneratePatches(v, bad.data(), nullptr, c, &whyC, nullptr, parallel);
     EXPECT_EQ(okA, okC) << model.first;
     EXPECT_EQ(whyA, whyC) << model.first;
+    std::string whyCount;
+    EXPECT_EQ(plod::CountDrawnTriangles(v, bad.data(), nullptr, parallel, serialWs, &whyCount), -1)
+      << model.first;
+    EXPECT_EQ(whyCount, whyA) << model.first;
   }
   EXPECT_GT(compared, 100);
 }
