@@ -104,6 +104,7 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , MinimumLevel(0)
   , TriangleBudget(0)
   , BudgetStopRule(BUDGET_SKIP_MISFITS)
+  , ExactTriangleBudget(false)
   , IncrementalSelection(false)
   , ViewAngle(30.0)
   , UseFrustum(false)
@@ -132,6 +133,7 @@ vtkPerceptualLODSelector::vtkPerceptualLODSelector()
   , NumberOfTopologyRefinedNodes(0)
   , BudgetWasBinding(false)
   , NumberOfBudgetTriangles(0)
+  , NumberOfCutTriangles(0)
   , NumberOfWaitingTriangles(0)
   , SelectTime(0.0)
   , Internal(new Internals)
@@ -346,6 +348,7 @@ std::string vtkPerceptualLODSelector::MakeSelectionInput(
   in.MinimumLevel = this->MinimumLevel;
   in.TriangleBudget = this->TriangleBudget;
   in.BudgetStop = static_cast<plod::BudgetStopRule>(this->BudgetStopRule);
+  in.ExactBudget = this->ExactTriangleBudget;
   in.Incremental = this->IncrementalSelection;
   in.UseOctreeMaterial = input->GetHasMaterialArrays();
   in.Diffuse = this->DiffuseReflectance;
@@ -533,6 +536,7 @@ void vtkPerceptualLODSelector::RecordFigures(const plod::SelectionStats& stats)
   this->NumberOfTopologyRefinedNodes = stats.TopologyRefined;
   this->BudgetWasBinding = stats.BudgetBinding;
   this->NumberOfBudgetTriangles = stats.BudgetTriangles;
+  this->NumberOfCutTriangles = stats.CutTriangles;
   this->NumberOfWaitingTriangles = stats.BudgetWaitingTriangles;
 }
 
@@ -562,7 +566,7 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TriangleBudget: " << this->TriangleBudget
      << (this->TriangleBudget > 0 ? "" : " (off)") << ", stop rule "
      << (this->BudgetStopRule == BUDGET_STOP_AT_FIRST_MISFIT ? "StopAtFirstMisfit" : "SkipMisfits")
-     << "\n";
+     << (this->ExactTriangleBudget ? ", exact" : ", estimated back faces") << "\n";
   os << indent << "EyePosition: (" << this->EyePosition[0] << ", " << this->EyePosition[1] << ", "
      << this->EyePosition[2] << ")\n";
   os << indent << "ViewAngle: " << this->ViewAngle << " deg\n";
@@ -588,7 +592,8 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Last: " << this->NumberOfVisitedNodes << " visited, " << this->NumberOfCutNodes
      << " in the cut, " << this->NumberOfDrawnNodes << " drawn, " << this->SelectTime * 1e3
      << " ms, object speed " << this->ObjectSpeed << " px, distance level " << this->DistanceLevel
-     << ", " << this->NumberOfBudgetTriangles << " triangles, " << this->NumberOfFoveationFactors
+     << ", " << this->NumberOfBudgetTriangles << " triangles counted of "
+     << this->NumberOfCutTriangles << " in the cut, " << this->NumberOfFoveationFactors
      << " foveation factors computed" << (this->BudgetWasBinding ? " (the budget was binding)" : "")
      << ", " << this->NumberOfWaitingTriangles << " waiting\n";
 }

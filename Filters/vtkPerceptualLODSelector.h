@@ -297,9 +297,16 @@ public:
    * that does not). The tolerances stay
    * a floor: a cell they accept is never refined, so a budget larger than the tolerance cut's
    * triangles gives the tolerance cut exactly. Cells left unrefined by the budget are drawn at
-   * their vertex with CutReason 8 (plod::BudgetLimited). The count is of the triangles the cut's
-   * refined cells own (GetNumberOfBudgetTriangles); vtkMultiscalePatchGenerator draws at most
-   * that many (fewer where cells are hidden or back faces culled). Floors kept whatever the
+   * their vertex with CutReason 8 (plod::BudgetLimited). The budget counts what is drawn
+   * (GetNumberOfBudgetTriangles): of the triangles the cut's refined cells own
+   * (GetNumberOfCutTriangles), not those another process draws (ghosts) and, when back faces
+   * are hidden, not those whose input face turns away from the eye, the rule by which
+   * vtkMultiscalePatchGenerator culls them. It is exact for opened leaves (drawn on their input
+   * points) and an estimate for the triangles of refined cells, which are drawn on
+   * representative vertices that can turn a face near the contour: docs/results/budget.md
+   * measures how far the drawn count strays from the budget. Counting costs a test per
+   * triangle (the walk reads the triangles' points), so the selection takes longer with a
+   * budget on a closed model (docs/benchmarks.md). Floors kept whatever the
    * budget: MinimumLevel and the cells holding the eye are always refined, so a budget smaller
    * than what they need is exceeded (GetBudgetWasBinding() is then true). Negative values are
    * clamped to 0. See plodSelector.h for the rules.
@@ -309,14 +316,19 @@ public:
   /// Whether the budget stopped refinement in the last execution before the tolerances were
   /// met (or the floors alone exceeded it). False without a budget.
   vtkGetMacro(BudgetWasBinding, bool);
-  /// Triangles owned by the refined cells of the last cut (with or without a budget): what it
-  /// draws at most, and with a budget at most TriangleBudget (unless the floors need more).
+  /// What the budget counted of the last cut: with a budget, the triangles it draws (see
+  /// TriangleBudget), at most TriangleBudget unless the floors need more; without one, the
+  /// cut's count (GetNumberOfCutTriangles: the drawn ones are not counted, which would cost a
+  /// test per triangle).
   vtkGetMacro(NumberOfBudgetTriangles, vtkIdType);
-  /// The triangles the refinements the budget left waiting would add, each made one level: the
-  /// cells drawn with CutReason 8, skipped ones included (0 when the budget did not bind).
-  /// NumberOfBudgetTriangles plus this is the tolerance cut's count when the budget does not bind,
-  /// and a lower bound of it when it does: what this selector asks for when several share one
-  /// budget (vtkPerceptualLODRepresentation under MPI).
+  /// Triangles owned by the refined cells of the last cut (with or without a budget): what it
+  /// draws at most.
+  vtkGetMacro(NumberOfCutTriangles, vtkIdType);
+  /// The triangles the refinements the budget left waiting own, each made one level: the cells
+  /// drawn with CutReason 8, skipped ones included (0 when the budget did not bind). In the
+  /// cut's count: NumberOfCutTriangles plus this is the tolerance cut's when the budget does
+  /// not bind, and a lower bound of it when it does: what this selector asks for when several
+  /// share one budget (vtkPerceptualLODRepresentation under MPI).
   vtkGetMacro(NumberOfWaitingTriangles, vtkIdType);
   ///@}
 
@@ -341,6 +353,22 @@ public:
     this->SetBudgetStopRule(BUDGET_STOP_AT_FIRST_MISFIT);
   }
   void SetBudgetStopRuleToSkipMisfits() { this->SetBudgetStopRule(BUDGET_SKIP_MISFITS); }
+  ///@}
+
+  ///@{
+  /**
+   * Exact triangle budget (off by default). Off, the budget counts the back faces from the
+   * input triangles' corners (see TriangleBudget): vtkMultiscalePatchGenerator can then draw a
+   * few percent more or fewer triangles than the budget. On, the drawn triangles are counted
+   * after the walk as the patch generator decides them, and the walk runs again with a smaller
+   * budget while they exceed it, so that no more than TriangleBudget are drawn (unless the
+   * floors need more) with the patch generator's default fold handling; this costs about one
+   * patch generation more per frame, and another walk and count when the first drew too many.
+   * GetNumberOfBudgetTriangles is then the exact drawn count. See plodSelector.h.
+   */
+  vtkSetMacro(ExactTriangleBudget, bool);
+  vtkGetMacro(ExactTriangleBudget, bool);
+  vtkBooleanMacro(ExactTriangleBudget, bool);
   ///@}
 
   ///@{
@@ -563,6 +591,7 @@ protected:
   int MinimumLevel;
   vtkIdType TriangleBudget;
   int BudgetStopRule;
+  bool ExactTriangleBudget;
   bool IncrementalSelection;
   bool MultiThreaded = true;
   double EyePosition[3];
@@ -601,6 +630,7 @@ protected:
   vtkIdType NumberOfFoveationFactors = 0;
   bool BudgetWasBinding;
   vtkIdType NumberOfBudgetTriangles;
+  vtkIdType NumberOfCutTriangles;
   vtkIdType NumberOfWaitingTriangles;
   std::string EmptyCutReason;
   double SelectTime;

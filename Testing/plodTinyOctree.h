@@ -82,8 +82,10 @@ struct Tiny
  * A hand-made three-node octree for the budget walk: a unit root cell at the origin (level 0,
  * vertex (0.5, 0.5, 0.5)) with two finest children, A = child 0 (the cell [0, 0.5]^3, vertex
  * (0.25, 0.25, 0.25)) and B = child 1 (the cell [0.5, 1] x [0, 0.5]^2, vertex (0.75, 0.25,
- * 0.25)). Node 0 owns Owned[0] triangles, A Owned[1], B Owned[2] (the selector reads only the
- * counts, never the triangles). Every axis +z; every quantity the selector reads is a member.
+ * 0.25)). Node 0 owns Owned[0] triangles, A Owned[1], B Owned[2]: the selector reads only the
+ * counts, unless Points and Triangles are set (then the budget tells their faces from their
+ * corners; PointGhost, when set, flags ghost points). Every axis +z; every quantity the
+ * selector reads is a member.
  */
 struct Fork
 {
@@ -102,6 +104,10 @@ struct Fork
   int32_t FirstPoint[3] = { 0, 0, 0 };
   int64_t Owned[3] = { 0, 10, 10 };
   int64_t FirstTriangle[3] = { 0, 0, 0 };
+  int64_t NumberOfPoints = 0;
+  const float* Points = nullptr;       ///< 3 per point, or null
+  const int32_t* Triangles = nullptr;  ///< 3 per owned triangle, in node order, or null
+  const uint8_t* PointGhost = nullptr; ///< 1 per point, or null
 
   plod::OctreeView View()
   {
@@ -110,6 +116,10 @@ struct Fork
     this->FirstTriangle[2] = this->Owned[0] + this->Owned[1];
     plod::OctreeView v = ViewOf(*this, 3);
     v.NumberOfTriangles = this->Owned[0] + this->Owned[1] + this->Owned[2];
+    v.NumberOfPoints = this->NumberOfPoints;
+    v.Points = this->Points;
+    v.Triangles = this->Triangles;
+    v.PointGhost = this->PointGhost;
     return v;
   }
 

@@ -334,6 +334,9 @@ struct Frame
   const double* Fovea = nullptr;
   /// The gaze direction as a unit vector (with Fovea).
   double Gaze[3] = { 0, 0, 0 };
+  /// The budget walk counts only the owned triangles the patch generator can draw
+  /// (CountDrawable): back faces are culled (HideBackFaces) or points are ghosts.
+  bool CountDrawn = false;
 };
 
 /**
@@ -440,6 +443,7 @@ Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const float* sinT
   }
   for (int level = 0; level <= MaxFinestLevel; ++level)
     f.Edge[level] = v.CellEdge(level);
+  f.CountDrawn = in.TriangleBudget > 0 && (in.HideBackFaces || v.PointGhost != nullptr);
   for (int p = 0; p < 6; ++p)
     for (int a = 0; a < 3; ++a)
       f.PlaneUp[p][a] = in.Planes[p][a] > 0 ? 1.0 : 0.0;
@@ -987,6 +991,105 @@ inline Refinement Refinable(const OctreeView& v, int64_t n)
   return { v.ChildMask[n], v.FirstChild[n], v.Level[n], v.TriangleEnd(n) - v.FirstTriangle[n] };
 }
 
+/// Whether input triangle `c` faces away from the eye (or along the projection direction): the
+/// patch generator's back-face rule (plodPatches.cxx) on the input corners.
+inline bool InputFacesAway(const Frame& f, const int32_t* c)
+{
+  const float* x[3] = { &f.V.Points[3 * c[0]], &f.V.Points[3 * c[1]], &f.V.Points[3 * c[2]] };
+  double e1[3], e2[3], d[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    e1[a] = double(x[1][a]) - x[0][a];
+    e2[a] = double(x[2][a]) - x[0][a];
+    d[a] = f.In.Parallel ? -f.In.ProjectionDirection[a] : f.In.Eye[a] - double(x[0][a]);
+  }
+  const double n[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+    e1[0] * e2[1] - e1[1] * e2[0] };
+  return n[0] * d[0] + n[1] * d[1] + n[2] * d[2] < 0;
+}
+
+/**
+ * Whether every triangle meeting node `n`'s cell (coordinates `c` at level `level`) faces the
+ * eye (+1) or faces away from it (-1) by InputFacesAway, or neither is certain (0). The node's
+ * cone holds the face normal of every triangle meeting the cell (plodOctreeBuilder.cxx,
+ * TightenCones) and every corner of one it owns lies in the cell, so the angle between such a
+ * face's normal and the direction from its corner to the eye is within theta + alpha of the
+ * angle phi between the cone's axis and the direction from the cell's centre to the eye, alpha
+ * the angle the cell's bounding sphere subtends from the eye (0 under a parallel projection):
+ * all face the eye when phi + theta + alpha < pi/2, all face away when phi - theta - alpha >
+ * pi/2. A margin of 1e-5 on the cosines leaves the float cones' rounding to the per-triangle
+ * test.
+ */
+inline int ConeFacing(const Frame& f, int64_t n, const uint32_t c[3], int level)
+{
+  const double h = f.Edge[level];
+  double u[3], sinA = 0, cosA = 1;
+  if (f.In.Parallel)
+  {
+    for (int a = 0; a < 3; ++a)
+      u[a] = -f.Dop[a];
+  }
+  else
+  {
+    for (int a = 0; a < 3; ++a)
+      u[a] = f.In.Eye[a] - (double(c[a]) + 0.5) * h;
+    const double dist = std::sqrt(Dot(u, u));
+    const double radius = 0.8660254037844386 * h; // half the cell's diagonal
+    if (!(dist > radius))
+      return 0;
+    for (int a = 0; a < 3; ++a)
+      u[a] /= dist;
+    sinA = radius / dist;
+    cosA = std::sqrt(1.0 - sinA * sinA);
+  }
+  const double sinT = f.SinTheta[n], cosT = f.CosTheta[n];
+  if (!(cosT * cosA - sinT * sinA > 0))
+    return 0;                                            // theta + alpha >= pi/2
+  const double bound = sinT * cosA + cosT * sinA + 1e-5; // sin(theta + alpha), widened
+  const float* axis = &f.V.ConeAxis[3 * n];
+  const double along = axis[0] * u[0] + axis[1] * u[1] + axis[2] * u[2];
+  return along > bound ? 1 : along < -bound ? -1 : 0;
+}
+
+/**
+ * Of the `owned` triangles of node `n` (cell coordinates `c`, level `level`), those the budget
+ * counts (Frame::CountDrawn; see "The count" in plodSelector.h), or `limit` + 1 as soon as they
+ * are more than `limit`: not those whose lead corner is a ghost (another process draws them),
+ * and with back faces hidden not those whose input face turns away from the eye
+ * (InputFacesAway, decided for the whole cell by ConeFacing where it can). Those outside the
+ * frustum count: the patch generator skips a triangle only when its corners' cut cells are
+ * culled, which input corners outside a plane do not tell (counting them out was measured to
+ * overshoot close views by up to 75 %). A corner out of range counts (the patch generator
+ * reports it).
+ */
+inline int64_t CountDrawable(const Frame& f, int64_t n, int64_t owned, const uint32_t c[3],
+  int level, int64_t limit = std::numeric_limits<int64_t>::max() - 1)
+{
+  const OctreeView& v = f.V;
+  if (!f.CountDrawn || owned <= 0 || !v.Triangles || !v.Points)
+    return owned; // (a hand-made octree may hold the counts alone)
+  const int facing = f.In.HideBackFaces ? ConeFacing(f, n, c, level) : 1;
+  if (facing < 0)
+    return 0;
+  if (facing > 0 && !v.PointGhost)
+    return owned;
+  int64_t count = 0;
+  for (int64_t t = v.FirstTriangle[n], end = t + owned; t < end && count <= limit; ++t)
+  {
+    const int32_t* p = &v.Triangles[3 * t];
+    const int32_t lead = std::min({ p[0], p[1], p[2] });
+    if (lead < 0 || std::max({ p[0], p[1], p[2] }) >= v.NumberOfPoints)
+    {
+      ++count;
+      continue;
+    }
+    if (v.PointGhost && v.PointGhost[lead] != 0)
+      continue;
+    count += facing == 0 && InputFacesAway(f, p) ? 0 : 1;
+  }
+  return count;
+}
+
 /**
  * Refines the cell `e`: its children go on `stack`, tested for brightness only when
  * `brightnessOnly`; a leaf is opened (it adds its own triangles). Returns the triangles the cut
@@ -1147,6 +1250,10 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
   {
     this->Front.clear();
     this->SelectWithinBudget(in, state, reason, cullMask, stats);
+    if (in.ExactBudget)
+    {
+      this->FitDrawnTriangles(in, state, reason, cullMask, stats);
+    }
   }
   else if (incremental)
   {
@@ -1160,6 +1267,73 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
   // figures count it
   assert(stats.Drawn <= stats.InCut && stats.InCut == int64_t(this->Previous.size()));
   assert(!ValidateOctree(this->View) || ValidateCut(this->View, state));
+}
+
+void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8_t* reason,
+  uint8_t* cullMask, SelectionStats& stats)
+{
+  // the patch generator's rules: back faces culled when hidden, folds drawn (with
+  // FoldHandling::Drop it draws fewer)
+  PatchOptions options;
+  options.For = this->For;
+  options.CullBackFaces = in.HideBackFaces;
+  options.Parallel = in.Parallel;
+  for (int a = 0; a < 3; ++a)
+  {
+    options.Eye[a] = in.Eye[a];
+    options.ProjectionDirection[a] = in.ProjectionDirection[a];
+  }
+  const auto count = [&]() {
+    return CountDrawnTriangles(this->View, state, cullMask, options, this->CountSpace);
+  };
+  SelectionInput walk = in;
+  const auto rewalk = [&](int64_t budget) {
+    walk.TriangleBudget = budget;
+    const int64_t visited = stats.Visited;
+    this->ClearPrevious(state, reason, cullMask);
+    stats = SelectionStats();
+    this->SelectWithinBudget(walk, state, reason, cullMask, stats);
+    stats.Visited += visited;
+  };
+  const int64_t B = in.TriangleBudget;
+  int64_t drawn = count();
+  if (drawn < 0)
+    return; // an invalid octree's cut cannot be counted: the walk's count stays
+  // The walk's count follows the drawn one closely, so its ratio to the budget walked with
+  // predicts where to walk next: down while more than the budget are drawn (at least one
+  // less), up while less than LowFill of it are drawn and the budget bound (at least one more).
+  // The largest budget found drawing no more than B is kept, and walked again last when the
+  // last walk drew too many.
+  constexpr double LowFill = 0.95;
+  constexpr int MaxWalks = 6;
+  int64_t best = drawn <= B ? B : -1, bestDrawn = drawn;
+  for (int walks = 1; walks < MaxWalks; ++walks)
+  {
+    const bool over = drawn > B;
+    if (!over && (drawn >= LowFill * double(B) || !stats.BudgetBinding))
+      break;
+    const int64_t now = walk.TriangleBudget;
+    const double scaled = std::floor(double(now) * double(B) / double(std::max<int64_t>(1, drawn)));
+    const int64_t next = over
+      ? std::max<int64_t>(1, std::min<int64_t>(now - 1, int64_t(scaled)))
+      : std::max<int64_t>(now + 1, int64_t(std::min(scaled, 4.0 * double(B))));
+    if ((over && now <= 1) || (best >= 0 && over && next <= best) || (!over && next <= best))
+      break;
+    rewalk(next);
+    drawn = count();
+    if (drawn <= B && next > best)
+    {
+      best = next;
+      bestDrawn = drawn;
+    }
+  }
+  if (drawn > B && best >= 0 && best != walk.TriangleBudget)
+  {
+    rewalk(best);
+    drawn = bestDrawn;
+  }
+  stats.BudgetBinding = stats.BudgetBinding || drawn > B;
+  stats.BudgetTriangles = drawn;
 }
 
 namespace
@@ -1305,6 +1479,7 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
       WalkDepthFirst<false>(frame, stack, cut, in.Incremental ? &this->Front : nullptr);
   }
   this->FrontTriangles = stats.BudgetTriangles;
+  stats.CutTriangles = stats.BudgetTriangles;
 }
 
 // flatten: as SelectDepthFirst
@@ -1396,6 +1571,7 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
     }
   }
   this->FrontTriangles = triangles;
+  stats.CutTriangles = triangles;
   stats.BudgetTriangles = triangles;
 }
 
@@ -1419,9 +1595,11 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
   const auto below = [](const Candidate& a, const Candidate& b) {
     return a.Order != b.Order ? a.Order < b.Order : a.Node > b.Node;
   };
-  int64_t triangles = 0;
-  // how many queued refinements add k triangles, for 0 < k < Few: whether one of them fits a
-  // small room left (SkipMisfits)
+  // what the budget counts (CountDrawable: counted when a refinement leaves the queue) and the
+  // cut's count
+  int64_t triangles = 0, cutTriangles = 0;
+  // how many queued refinements own k triangles, for 0 < k < Few: whether one of them surely
+  // fits a small room left (SkipMisfits; it counts at most what it owns)
   constexpr int64_t Few = 64;
   int32_t few[Few] = {};
   const auto count = [&few](int64_t owned, int32_t change) {
@@ -1448,7 +1626,9 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
       const Refinement r = Refinable(v, e.Node);
       if (d.Floor)
       {
-        triangles += RefineCell(v, e, r, d.BrightnessOnly, inside, stack, cut);
+        const int64_t owned = RefineCell(v, e, r, d.BrightnessOnly, inside, stack, cut);
+        cutTriangles += owned;
+        triangles += owned > 0 ? CountDrawable(frame, e.Node, owned, e.C, r.Level) : 0;
         continue;
       }
       const float priority = d.Priority; // single precision, non-negative (QueuePriority)
@@ -1461,13 +1641,21 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
           static_cast<uint8_t>(r.Level), inside, d.BrightnessOnly, d.Topology });
     }
   };
-  // refines a cell that left the queue, and judges its children under its key
-  auto refineWaiting = [&](const Candidate& c) {
+  // what refining a waiting cell adds to the budget's count, or more than `limit`
+  auto counted = [&](const Candidate& c, int64_t limit) {
+    const WaitingCell& w = waiting[c.Slot];
+    return CountDrawable(frame, c.Node, w.Owned, w.C, w.Level, limit);
+  };
+  // refines a cell that left the queue (adding `add` to the budget's count), and judges its
+  // children under its key
+  auto refineWaiting = [&](const Candidate& c, int64_t add) {
     const WaitingCell w = waiting[c.Slot]; // (a copy: judging the children grows `waiting`)
     stats.TopologyRefined += w.Topology ? 1 : 0;
     const Entry e{ c.Node, { w.C[0], w.C[1], w.C[2] }, false, w.Inside };
-    triangles += RefineCell(v, e, { w.ChildMask, w.FirstChild, w.Level, w.Owned },
+    const int64_t owned = RefineCell(v, e, { w.ChildMask, w.FirstChild, w.Level, w.Owned },
       w.ChildrenBrightnessOnly, w.Inside, stack, cut);
+    cutTriangles += owned;
+    triangles += owned > 0 ? add : 0;
     judgeStack(FromOrderBits(static_cast<uint32_t>(c.Order >> 32)));
   };
   stack.push_back({ 0, { 0, 0, 0 }, false, 0 });
@@ -1478,7 +1666,9 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
   {
     const Candidate top = queue.front();
     const WaitingCell w = waiting[top.Slot];
-    if (triangles + w.Owned > in.TriangleBudget)
+    const int64_t room = in.TriangleBudget - triangles;
+    const int64_t add = counted(top, room);
+    if (add > room)
     {
       // a misfit. The first one has the largest key of any left in the cut: keys leave the
       // queue in non-increasing order
@@ -1486,7 +1676,7 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
       {
         refused = true;
         stats.BudgetRefusedPriority = FromOrderBits(static_cast<uint32_t>(top.Order >> 32));
-        stats.BudgetRefusedTriangles = w.Owned;
+        stats.BudgetRefusedTriangles = counted(top, std::numeric_limits<int64_t>::max() - 1);
       }
       // StopAtFirstMisfit: the walk ends here, so that a larger budget refines a superset of
       // what a smaller one refines. SkipMisfits: the misfit is drawn and the walk goes on.
@@ -1496,17 +1686,18 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
       count(w.Owned, -1);
       cut.Add(top.Node, CutDrawn, BudgetLimited);
       stats.BudgetWaitingTriangles += w.Owned;
-      const int64_t room = in.TriangleBudget - triangles;
       bool fits = room >= Few;
       for (int64_t k = 1; k <= room && k < Few && !fits; ++k)
         fits = few[k] > 0;
       if (fits)
         continue;
-      // No queued refinement that adds triangles fits any more, and the room will not change
-      // until the walk reaches new cells: only refinements adding none can be made, and in any
-      // order. One pass over the queue makes them and draws the others, instead of a heap pop
-      // for each; the walk goes on with the refinements they queue, whose keys order them as
-      // before. The cut is the one that popping the whole queue in order would give.
+      // No queued refinement owning triangles surely fits any more, and the room will not
+      // change until the walk reaches new cells: only refinements owning none are made, and in
+      // any order. One pass over the queue makes them and draws the others, instead of a heap
+      // pop for each; the walk goes on with the refinements they queue, whose keys order them
+      // as before. With the cut's count, the cut is the one that popping the whole queue in
+      // order would give; with the drawn one, a refinement owning more than the room but
+      // counting no more than it is drawn too (at most Few - 1 triangles of room left unused).
       // (the pass reads a copy of the queue, which the refinements refill: a member, so that
       // its capacity is kept from frame to frame)
       std::vector<Candidate>& rest = this->QueueRest;
@@ -1522,13 +1713,13 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
           stats.BudgetWaitingTriangles += r.Owned;
           continue;
         }
-        refineWaiting(c);
+        refineWaiting(c, 0);
       }
       continue;
     }
     HeapPop(queue, below);
     count(w.Owned, -1);
-    refineWaiting(top);
+    refineWaiting(top, add);
   }
   // what the budget left unrefined is drawn at its representative vertex
   for (const Candidate& c : queue)
@@ -1536,6 +1727,7 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
     cut.Add(c.Node, CutDrawn, BudgetLimited);
     stats.BudgetWaitingTriangles += waiting[c.Slot].Owned;
   }
+  stats.CutTriangles = cutTriangles;
   stats.BudgetTriangles = triangles;
   stats.BudgetBinding = refused || triangles > in.TriangleBudget;
 }

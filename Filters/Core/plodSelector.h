@@ -105,16 +105,19 @@
  *   StopAtFirstMisfit ends the walk there. The pops are then the same for every budget up to
  *   the stop, so a larger budget refines a superset of what a smaller one refines.
  *   SkipMisfits (default) leaves the misfit unrefined and goes on with the next refinements in key
- * order, skipping each that does not fit, until the queue is empty. Cut-off, exact: the walk counts
- *   the queued refinements by the triangles they add (from 1 to 63); once the room left is
- *   below 64 and none of them fits it, only refinements adding no triangle (a cell whose
- *   triangles all lie within its children) can still be made, and in any order, since the room
- *   no longer changes. One linear pass over the queue then makes those and draws the others,
- *   instead of a heap pop each (which cost +45 % of the walk's time on the benchmark scene at 25
- *   % of its tolerance cut, where the queue held 2,300 cells and 161 refinements adding nothing
- *   were made after the first misfit); the walk goes on in key order with what they queue. The
- *   cut is the one popping the whole queue would give. When the walk ends, no cell left
- *   unrefined by the budget would fit in the room left. Cuts no longer nest, but both rules make
+ * order, skipping each that does not fit, until the queue is empty. Cut-off: the walk counts
+ *   the queued refinements by the triangles they own (from 1 to 63; they count at most that);
+ *   once the room left is below 64 and none of them surely fits it, only refinements owning no
+ *   triangle (a cell whose triangles all lie within its children) are still made, and in any
+ *   order, since the room no longer changes. One linear pass over the queue then makes those and
+ * draws the others, instead of a heap pop each (which cost +45 % of the walk's time on the
+ * benchmark scene at 25 % of its tolerance cut, where the queue held 2,300 cells and 161
+ * refinements adding nothing were made after the first misfit); the walk goes on in key order with
+ * what they queue. With the cut's count (below) the cut is the one popping the whole queue would
+ * give; with the drawn one, a refinement owning more triangles than the room but counting no more
+ * is drawn rather than refined (at most 63 triangles of the budget left unused). When the walk
+ * ends, no cell left unrefined by the budget owns few enough triangles to fit in the room left.
+ *   Cuts no longer nest, but both rules make
  *   the same pops up to the first misfit, so SkipMisfits refines a superset of what
  *   StopAtFirstMisfit refines at the same budget, and its first misfit is the stop rule's.
  *   Either way the first misfit's key is the largest key left in the cut (keys leave the queue in
@@ -125,11 +128,26 @@
  *   better (the refinements that add no triangle, made after the room is spent, refine
  *   vertices for free), fills the budget more fully and costs little more CPU; the nesting it
  *   gives up changes very few cells (docs/results/budget.md, docs/benchmarks.md).
- * - The count: a cut draws the triangles owned by its refined nodes and opened leaves
- *   (plodOctree.h, plodPatches.h), so refining node n adds TriangleEnd(n) - FirstTriangle[n]
- *   and opening a leaf its own. The root alone counts 0 (it is one point). The walk keeps that
- *   sum exactly (SelectionStats::BudgetTriangles, counted by both walks); GeneratePatches draws
- *   at most that many (fewer where cells are hidden, back faces culled or corners ghosts).
+ * - The count, of what is drawn: a cut draws the triangles owned by its refined nodes and
+ *   opened leaves (plodOctree.h, plodPatches.h), so refining node n can add TriangleEnd(n) -
+ *   FirstTriangle[n], opening a leaf its own (SelectionStats::CutTriangles sums them; the root
+ *   alone counts 0, it is one point). Of those the budget counts the ones GeneratePatches
+ *   draws (SelectionStats::BudgetTriangles): not a triangle whose lead corner is a ghost
+ *   (another process draws it) and, with HideBackFaces, not one whose face turns away from the
+ *   eye. The walk decides the facing on the input triangle's corners (for a whole cell at once
+ *   where its normal cone faces the eye, or away from it, across the cell's angular size; else
+ *   triangle by triangle), when the refinement leaves the queue. That is exact for an opened
+ *   leaf, whose triangles are drawn on their input points, and an estimate for a refined
+ *   node's, drawn on representative vertices that can turn a face near the contour: measured,
+ *   the drawn count strays a few percent either way from the budget, most above it at budgets
+ *   of a few percent of the tolerance cut (docs/results/budget.md). SelectionInput::ExactBudget
+ *   removes the excess: after the walk the drawn triangles are counted as GeneratePatches
+ *   decides them (CountDrawnTriangles: every corner's representative, about the cost of making
+ *   the patches), and while they exceed the budget the walk runs again with the budget scaled
+ *   by budget / drawn (at least one less). Without back faces hidden or ghosts the count is the
+ *   cut's, exactly. Counting the back faces reads the corners of every counted triangle, which
+ *   the walk otherwise never touches: the budget walk takes two to three times as long on a
+ *   closed scan (docs/benchmarks.md).
  * - Floors: the cells holding the eye and those coarser than MinimumLevel are refined at once,
  *   whatever the budget: the first because its error is unbounded, the second because the
  *   distributed pieces must agree. When they alone exceed the budget, the count exceeds it and
@@ -172,6 +190,7 @@
 #include "plodCut.h"
 #include "plodOctree.h"
 #include "plodParallel.h"
+#include "plodPatches.h"
 
 #include <cstdint>
 #include <string>
@@ -306,6 +325,10 @@ struct SelectionInput
   int64_t TriangleBudget = 0;
   /// What the budget walk does with a refinement that does not fit (default SkipMisfits).
   BudgetStopRule BudgetStop = BudgetStopRule::SkipMisfits;
+  /// With a budget: count the triangles drawn exactly, as GeneratePatches decides them, and walk
+  /// again with a smaller budget while they exceed it (see "The count" in the file
+  /// documentation). Off (default): the walk's count, which estimates the back faces.
+  bool ExactBudget = false;
 
   /// Start from the previous frame's cut instead of the root (see "Incremental selection" in
   /// the file documentation). Used only when the previous frame was a tolerance walk (no
@@ -325,21 +348,27 @@ struct SelectionStats
   /// whose tests fall within the bounds compute it (plodSelector.cxx, FoveaTable).
   int64_t FoveationFactors = 0;
   /// Triangles owned by the refined nodes and the opened leaves: what the cut draws at most
-  /// (GeneratePatches may draw fewer: hidden cells, back faces, ghosts). Counted by both walks.
+  /// (GeneratePatches may draw fewer: hidden cells, back faces, ghosts). Counted by every walk.
+  int64_t CutTriangles = 0;
+  /// What the budget counts (see "The count" in the file documentation): with a budget, the
+  /// triangles of the cut GeneratePatches can draw, not the back faces or the ghosts'; without
+  /// one, CutTriangles (counting the drawn ones costs a test per triangle, which nothing needs
+  /// then).
   int64_t BudgetTriangles = 0;
   /// The budget stopped refinement before the tolerances were met, or the floors (eye inside,
   /// minimum level) alone exceed it.
   bool BudgetBinding = false;
   /// When the budget stopped refinement: the queue priority of the first refinement that did not
   /// fit (the largest left in the cut, with either stop rule) and the triangles it would have
-  /// added; else 0.
+  /// added to BudgetTriangles; else 0.
   double BudgetRefusedPriority = 0;
   int64_t BudgetRefusedTriangles = 0;
-  /// The triangles that the refinements the budget left waiting would add, each made one level
-  /// (the refused one included, and with SkipMisfits every one skipped: the cells drawn as
-  /// BudgetLimited); 0 when the budget did not stop refinement. BudgetTriangles
-  /// plus this is the tolerance cut's count when the budget does not bind, and a lower bound of
-  /// it when it does: what a process asks for when several share one budget.
+  /// The triangles that the refinements the budget left waiting own, each made one level (the
+  /// refused one included, and with SkipMisfits every one skipped: the cells drawn as
+  /// BudgetLimited); 0 when the budget did not stop refinement. In the cut's count (counting
+  /// what they would draw would cost as much as refining them): CutTriangles plus this is the
+  /// tolerance cut's CutTriangles when the budget does not bind, and a lower bound of it when
+  /// it does: what a process asks for when several share one budget.
   int64_t BudgetWaitingTriangles = 0;
 };
 
@@ -468,10 +497,13 @@ private:
     uint8_t* cullMask, SelectionStats& stats);
   void SelectWithinBudget(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     uint8_t* cullMask, SelectionStats& stats);
+  void FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8_t* reason,
+    uint8_t* cullMask, SelectionStats& stats);
 
   OctreeView View;
   std::vector<Entry> Stack;
   std::vector<Candidate> Queue;     // the budget walk's max-heap
+  PatchWorkspace CountSpace;        // ExactBudget's count of the drawn triangles
   std::vector<Candidate> QueueRest; // SkipMisfits' last pass: the queue it reads
   std::vector<WaitingCell> Waiting;
   std::vector<float> SinTheta, CosTheta;

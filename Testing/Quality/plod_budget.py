@@ -13,9 +13,8 @@ reference).
   first with BUDGET_STOP_AT_FIRST_MISFIT (the walk ends at the first refinement that does not
   fit), the second with BUDGET_SKIP_MISFITS (such refinements are skipped);
 - budget-stop@count, budget-skip@count: the same with the budget set to what the tolerance cut
-  counts (GetNumberOfBudgetTriangles: the triangles its refined cells own, back-facing ones and
-  those touching hidden cells included, which the patches do not draw), the unit the budget is
-  in;
+  counts (GetNumberOfBudgetTriangles: without a budget, the triangles its refined cells own,
+  back-facing ones and those touching hidden cells included, which the patches do not draw);
 - QD: vtkQuadricDecimation of the full mesh to the same count, once per view.
 Models: the Stanford bunny and Lucy (a real scan, decimated by a third party: 15,000 triangles)
 from the data folder when there (skipped, with a message, when not), and the generated UV sphere.
@@ -28,6 +27,11 @@ budget refines that the next, larger one does not, `changed` the cut entries tha
 Writes <out>/budget.csv and <out>/budget_nesting.csv and prints a table of medians.
 --sections incremental: the incremental selection against the full walk on an orbit (11 frames,
 3 degrees apart), per frame, in <out>/incremental.csv.
+--sections drawn: what a budget draws, estimated and exact (SetExactTriangleBudget), on every
+model (the closed ones count the back faces out), far, mid and close, azimuths 0, 90 and 180,
+budgets of 5, 10, 25 and 50 % of what the cut at tolerances 1/16 px draws: the triangles drawn,
+the selector's count, fill = drawn / budget and the median selection time, in
+<out>/budget_drawn.csv, with the range of fills per mode printed.
 --sections foveation: screen foveation's factor table against every factor computed (a budget
 that does not bind), rates 2 and 8, azimuths 0 and 90: same cut and same image, factors
 computed, PSNR, in <out>/foveation_table.csv (exits 1 when a cut differs).
@@ -194,6 +198,34 @@ def foveation(name, model, rates=(2.0, 8.0), azimuths=(0, 90)):
     return rows
 
 
+def drawn(name, model, fractions=(0.05, 0.1, 0.25, 0.5), azimuths=(0, 90, 180)):
+    """Rows of the drawn-count measurement (module docstring)."""
+    rows = []
+    scene = pf.Scene(model)
+    for dname, dolly in pf.DISTANCES.items():
+        for az in azimuths:
+            scene.view(az, dolly)
+            scene.selector.SetTriangleBudget(0)
+            scene.selector.ExactTriangleBudgetOff()
+            _, full = scene.render_lod(FLOOR)
+            hid = scene.selector.GetHidBackFaces()
+            for fraction in fractions:
+                budget = max(100, int(fraction * full))
+                for mode in ('estimated', 'exact'):
+                    scene.selector.SetExactTriangleBudget(mode == 'exact')
+                    scene.selector.SetTriangleBudget(budget)
+                    _, tris = scene.render_lod(FLOOR)
+                    rows.append(dict(model=name, closed=int(hid), distance=dname, azimuth=az,
+                                     mode=mode, tolerance_drawn=full, budget=budget,
+                                     triangles=tris,
+                                     budget_triangles=scene.selector.GetNumberOfBudgetTriangles(),
+                                     cut_triangles=scene.selector.GetNumberOfCutTriangles(),
+                                     fill=tris / budget, select_ms=select_ms(scene)))
+            scene.selector.ExactTriangleBudgetOff()
+            scene.selector.SetTriangleBudget(0)
+    return rows
+
+
 def write_rows(path, fields, rows):
     """Writes `rows` (dicts) to the CSV file `path` with the columns `fields`."""
     with open(path, 'w', newline='') as f:
@@ -209,8 +241,9 @@ def main():
     ap.add_argument('--models', default='bunny,lucy,generated')
     ap.add_argument('--sections', default='budget,incremental',
                     help='budget (the trade curves and nesting), incremental (against the full '
-                         'walk on an orbit), foveation (screen foveation\'s table against the '
-                         'exact factors); the others keep their CSV files')
+                         'walk on an orbit), drawn (what a budget draws, estimated and exact), '
+                         'foveation (screen foveation\'s table against the exact factors); the '
+                         'others keep their CSV files')
     args = ap.parse_args()
     sections = set(args.sections.split(','))
     wanted = set(args.models.split(','))
@@ -240,6 +273,24 @@ def main():
                     key, method, min(x['psnr'] for x in r), max(x['psnr'] for x in r),
                     sum(x['psnr'] for x in r) / len(r), min(x['triangles'] for x in r),
                     max(x['triangles'] for x in r)))
+        print('written:', path)
+    if 'drawn' in sections:
+        rows_drawn = []
+        for key, model in models:
+            rows_drawn += drawn(key, model)
+        path = os.path.join(args.out, 'budget_drawn.csv')
+        write_rows(path, ['model', 'closed', 'distance', 'azimuth', 'mode', 'tolerance_drawn',
+                          'budget', 'triangles', 'budget_triangles', 'cut_triangles', 'fill',
+                          'select_ms'], rows_drawn)
+        for key, _ in models:
+            for mode in ('estimated', 'exact'):
+                r = [x for x in rows_drawn if x['model'] == key and x['mode'] == mode]
+                print('%-10s %-9s closed %d: fill %.3f to %.3f (median %.3f), over the budget '
+                      '%d of %d, select median %.2f ms' % (
+                          key, mode, r[0]['closed'], min(x['fill'] for x in r),
+                          max(x['fill'] for x in r), float(np.median([x['fill'] for x in r])),
+                          sum(x['triangles'] > x['budget'] for x in r), len(r),
+                          float(np.median([x['select_ms'] for x in r]))))
         print('written:', path)
     if 'foveation' in sections:
         fov = []

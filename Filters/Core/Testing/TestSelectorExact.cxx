@@ -958,6 +958,112 @@ TEST(SelectorExact, BudgetStopsAtTheFirstRefinementThatDoesNotFit)
   EXPECT_EQ(r.Stats.BudgetRefusedPriority, 0);
 }
 
+TEST(SelectorExact, BudgetCountsOnlyTheTrianglesDrawn)
+{
+  // A (refined first: its ratio is above B's) owns 10 triangles whose faces turn away from the
+  // eye, B 10 that face it. With back faces hidden (a closed surface) the budget counts what
+  // the patch generator draws: A's refinement counts nothing, so a budget of 10 opens both;
+  // with back faces drawn (an open surface) A's 10 fill it and B waits. A triangle whose lead
+  // corner is a ghost counts nothing either (another process draws it).
+  ForkScene s;
+  s.Own(0, 10, 10);
+  s.SetA(1.01 * s.B());
+  // A's corners in A's cell, B's in B's, all at z = 0.25; the eye is far above (+z)
+  const float points[18] = { 0.1f, 0.1f, 0.25f, 0.2f, 0.1f, 0.25f, 0.1f, 0.2f, 0.25f, 0.6f, 0.1f,
+    0.25f, 0.7f, 0.1f, 0.25f, 0.6f, 0.2f, 0.25f };
+  int32_t triangles[60];
+  for (int t = 0; t < 10; ++t)
+  {
+    const int32_t away[3] = { 0, 2, 1 }, facing[3] = { 3, 4, 5 }; // normals -z and +z
+    std::copy(away, away + 3, triangles + 3 * t);
+    std::copy(facing, facing + 3, triangles + 30 + 3 * t);
+  }
+  s.T.NumberOfPoints = 6;
+  s.T.Points = points;
+  s.T.Triangles = triangles;
+  ASSERT_TRUE(s.In.HideBackFaces);
+  auto r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 10);
+  EXPECT_EQ(r.Stats.CutTriangles, 20);
+  EXPECT_FALSE(r.Stats.BudgetBinding);
+  r = s.Select(9); // A still fits (it counts 0), B does not
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 0);
+  EXPECT_EQ(r.Stats.CutTriangles, 10);
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 10);
+  EXPECT_EQ(r.Stats.BudgetWaitingTriangles, 10);
+  // a parallel projection looking down: the same faces turn away
+  s.In.Parallel = true;
+  s.In.ProjectionDirection[0] = s.In.ProjectionDirection[1] = 0;
+  s.In.ProjectionDirection[2] = -2;
+  r = s.Select(10);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 10);
+  // looking up instead: A's faces are the drawn ones
+  s.In.ProjectionDirection[2] = 2;
+  r = s.Select(9);
+  EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetRefusedTriangles, 10);
+  s.In.Parallel = false;
+  // an open surface: every owned triangle counts
+  s.In.HideBackFaces = false;
+  r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 10);
+  // B's lead corner (its smallest point index, 3) a ghost: B counts nothing
+  const uint8_t ghost[6] = { 0, 0, 0, 1, 0, 0 };
+  s.T.PointGhost = ghost;
+  r = s.Select(10);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 10);
+  EXPECT_EQ(r.Stats.CutTriangles, 20);
+  // without a budget nothing is counted but the cut's triangles
+  r = s.Select(0);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 20);
+  EXPECT_EQ(r.Stats.CutTriangles, 20);
+}
+
+TEST(SelectorExact, BudgetDecidesAWholeCellOnlyWhenItsExtentAllowsIt)
+{
+  // Flat leaves (cones of angle 0 about +z) opened by the distance levels, the eye beside them
+  // at z = 0.3: above A's centre (z = 0.25) but below A's triangles (z = 0.4), which therefore
+  // face away; B's (z = 0.25) face the eye. Seen from A's centre the cone faces the eye, yet the
+  // cell is too near for that to hold at every corner: its triangles are decided one by one, A
+  // counts nothing and both leaves fit a budget of 10.
+  plodtest::Fork t;
+  t.Angle[1] = t.Angle[2] = 0;
+  const float points[18] = { 0.1f, 0.1f, 0.4f, 0.2f, 0.1f, 0.4f, 0.1f, 0.2f, 0.4f, 0.6f, 0.1f,
+    0.25f, 0.7f, 0.1f, 0.25f, 0.6f, 0.2f, 0.25f };
+  int32_t triangles[60];
+  for (int k = 0; k < 30; ++k)
+    triangles[k] = k % 3; // A: normal +z
+  for (int k = 30; k < 60; ++k)
+    triangles[k] = 3 + k % 3; // B: normal +z
+  t.NumberOfPoints = 6;
+  t.Points = points;
+  t.Triangles = triangles;
+  plod::SelectionInput in = Viewer(-0.4, 0.25, 0.3);
+  in.Error = plod::ErrorModel::Distance;
+  in.DistanceLevel = 2; // both leaves opened, A first (equal keys: the smaller index)
+  in.TriangleBudget = 10;
+  auto r = t.Select(in);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.State[2], plod::CutOpen);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 10);
+  EXPECT_EQ(r.Stats.CutTriangles, 20);
+  // the eye above both: A's triangles face it too, and B waits
+  in.Eye[2] = 0.6;
+  r = t.Select(in);
+  EXPECT_EQ(r.State[1], plod::CutOpen);
+  EXPECT_EQ(r.Reason[2], plod::BudgetLimited);
+  EXPECT_EQ(r.Stats.BudgetTriangles, 10);
+}
+
 TEST(SelectorExact, BudgetSkipsARefinementThatDoesNotFitAndMakesCheaperOnes)
 {
   // The same tree with SkipMisfits (the default): A (20 triangles) does not fit in 10, is drawn

@@ -305,7 +305,7 @@ void vtkPerceptualLODRepresentation::ShareFrame(vtkPVRenderView* view)
   }
   constexpr int fields = 4;
   const double mine[fields] = { measured,
-    double(selector->GetNumberOfBudgetTriangles() + selector->GetNumberOfWaitingTriangles()),
+    double(selector->GetNumberOfCutTriangles() + selector->GetNumberOfWaitingTriangles()),
     double(selector->GetNumberOfBudgetTriangles()), selector->GetBudgetWasBinding() ? 1.0 : 0.0 };
   std::vector<double> all(static_cast<size_t>(fields) * ranks, 0.0);
   this->Controller->AllGather(mine, all.data(), fields);

@@ -35,16 +35,17 @@
  * distributed rendering): IceT composites the ranks' images.
  * - **Budget and frame-time target with several ranks.** TriangleBudget is the view's total: the
  *   triangles all ranks' selectors count together (vtkPerceptualLODSelector::
- *   GetNumberOfBudgetTriangles; a rank also counts the halo triangles another rank draws, so the
- *   view draws at most that many). TargetFrameTime holds the composited frame, which is as slow as
+ *   GetNumberOfBudgetTriangles: what each rank draws, not the halo triangles another rank
+ *   draws). TargetFrameTime holds the composited frame, which is as slow as
  *   the slowest rank. Once per render, at the view's REQUEST_RENDER pass (which every rank makes
  *   before IceT renders, whether its actor is culled, empty or not; not in the actor's render,
  *   which the renderer skips on a rank whose piece lies outside the view), the ranks gather their
  *   figures in one collective (vtkMultiProcessController::AllGather of 4 numbers per rank): the
  *   cost of each rank's last frame (vtkPerceptualLODRenderBinding measures it), the triangles its
- *   selector counted, whether its budget bound, and its demand (the tolerance cut's count when its
- *   budget did not bind, else the count plus the refinements left waiting:
- *   vtkPerceptualLODSelector::GetNumberOfWaitingTriangles). Every rank then computes the same
+ *   selector counted, whether its budget bound, and its demand in the cut's count (the tolerance
+ *   cut's when its budget did not bind, else the cut's plus the refinements left waiting:
+ *   vtkPerceptualLODSelector::GetNumberOfCutTriangles, GetNumberOfWaitingTriangles). Every rank
+ *   then computes the same
  *   figures from the same table: the steering frame cost is the maximum over ranks, the triangles
  *   drawn the sum, and one step of the binding's controller with them gives the same total budget
  *   on every rank (vtkPerceptualLODRenderBinding::StepBudget, ExternalSteering). The total is split
