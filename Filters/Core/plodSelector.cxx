@@ -1482,87 +1482,115 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
   stats.CutTriangles = stats.BudgetTriangles;
 }
 
-// flatten: as SelectDepthFirst
-[[gnu::flatten]] void Selector::SelectIncremental(const SelectionInput& in, uint8_t* state,
-  uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
+namespace
 {
-  const OctreeView& v = this->View;
-  const Frame frame =
-    MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
-  this->Previous.clear(); // rebuilt below from the new front
-  CutWriter cut{ state, reason, cullMask, this->Previous, stats };
-  std::vector<Entry>& stack = this->Stack;
-  std::vector<Entry>& next = this->NextFront;
-  stack.clear();
-  next.clear();
-  int64_t triangles = this->FrontTriangles;
-  auto leave = [&](int32_t n) {
-    state[n] = NotInCut;
-    reason[n] = ReasonNone;
-    if (cullMask)
-      cullMask[n] = 0;
-  };
-  // 1. refinement: every cell of the previous cut is judged again, with every test (its
-  // parent's contour decision is not judged again, so a "brightness only" would be stale) and
-  // no plane known inside (the frustum moved). Kept, it stays; refined, the walk goes on below
-  // it, every cell judged with every test.
-  for (const Entry& old : this->Front)
+/// Takes node `n` out of the cut.
+inline void LeaveCut(CutWriter& cut, int32_t n)
+{
+  cut.State[n] = NotInCut;
+  cut.Reason[n] = ReasonNone;
+  if (cut.CullMask)
+    cut.CullMask[n] = 0;
+}
+
+/**
+ * The incremental selection's refinement: every cell of the previous cut (`front`) is judged
+ * again, with every test (its parent's contour decision is not judged again, so a "brightness
+ * only" would be stale) and no plane known inside (the frustum moved). Kept, it stays; refined,
+ * the walk goes on below it, every cell judged with every test. The cells put in the cut are
+ * appended to `next`. Returns the cut's triangles, from the previous cut's `triangles`.
+ */
+template <class EntryType>
+int64_t RefineFront(const Frame& frame, const std::vector<EntryType>& front,
+  std::vector<EntryType>& stack, std::vector<EntryType>& next, CutWriter& cut, int64_t triangles)
+{
+  for (const EntryType& old : front)
   {
-    if (state[old.Node] == CutOpen)
-      triangles -= Refinable(v, old.Node).Owned; // opened again below if still refined
-    leave(old.Node);
+    if (cut.State[old.Node] == CutOpen)
+      triangles -= Refinable(frame.V, old.Node).Owned; // opened again below if still refined
+    LeaveCut(cut, old.Node);
     stack.push_back({ old.Node, { old.C[0], old.C[1], old.C[2] }, false, 0 });
     triangles += WalkDepthFirst<true>(frame, stack, cut, &next);
   }
-  // 2. coarsening: a parent whose children are all in the cut and kept (drawn or hidden, none
-  // opened) is judged; when it is no longer refined, it replaces them. Pass after pass, one
-  // level up each, while some parent collapses.
-  if (this->Mark.size() != size_t(v.NumberOfNodes))
+  return triangles;
+}
+
+/**
+ * The incremental selection's coarsening: a parent whose children are all in the cut and kept
+ * (drawn or hidden, none opened) is judged; when it is no longer refined, it replaces them
+ * (appended to `next`). Pass after pass, one level up each, while some parent collapses.
+ * `mark` (one per node, `markValue` the current pass's) remembers the parents judged in a
+ * pass. Returns the cut's triangles, from `triangles`.
+ */
+template <class EntryType>
+int64_t CoarsenFront(const Frame& frame, std::vector<EntryType>& next, std::vector<uint32_t>& mark,
+  uint32_t& markValue, CutWriter& cut, int64_t triangles)
+{
+  const OctreeView& v = frame.V;
+  const uint8_t* state = cut.State;
+  if (mark.size() != size_t(v.NumberOfNodes))
   {
-    this->Mark.assign(v.NumberOfNodes, 0);
-    this->MarkValue = 0;
+    mark.assign(v.NumberOfNodes, 0);
+    markValue = 0;
   }
   for (size_t begin = 0, end = next.size(); begin < end; begin = end, end = next.size())
   {
-    if (++this->MarkValue == 0)
+    if (++markValue == 0)
     {
-      std::fill(this->Mark.begin(), this->Mark.end(), 0u);
-      this->MarkValue = 1;
+      std::fill(mark.begin(), mark.end(), 0u);
+      markValue = 1;
     }
     for (size_t i = begin; i < end; ++i)
     {
-      const Entry e = next[i];
+      const EntryType e = next[i];
       const int32_t p = e.Node > 0 ? v.Parent[e.Node] : -1;
-      if (state[e.Node] == NotInCut || p < 0 || p >= e.Node || this->Mark[p] == this->MarkValue)
+      if (state[e.Node] == NotInCut || p < 0 || p >= e.Node || mark[p] == markValue)
         continue;
-      this->Mark[p] = this->MarkValue;
+      mark[p] = markValue;
       const Refinement r = Refinable(v, p);
       bool allKept = r.First > p && r.First + __builtin_popcount(r.Mask) <= v.NumberOfNodes;
       for (int k = 0; allKept && k < __builtin_popcount(r.Mask); ++k)
         allKept = state[r.First + k] == CutDrawn || state[r.First + k] == CutHidden;
       if (!allKept)
         continue;
-      const Entry pe{ p, { e.C[0] >> 1, e.C[1] >> 1, e.C[2] >> 1 }, false, 0 };
-      ++stats.Visited;
+      const EntryType pe{ p, { e.C[0] >> 1, e.C[1] >> 1, e.C[2] >> 1 }, false, 0 };
+      ++cut.Stats.Visited;
       uint8_t inside = 0;
       const Decision d = Judge<false>(frame, p, pe.C, false, inside);
       if (d.What == Verdict::Refine)
         continue;
       for (int k = 0; k < __builtin_popcount(r.Mask); ++k)
       {
-        --stats.InCut;
-        stats.Drawn -= IsDrawnState(state[r.First + k]) ? 1 : 0;
-        leave(r.First + k);
+        --cut.Stats.InCut;
+        cut.Stats.Drawn -= IsDrawnState(state[r.First + k]) ? 1 : 0;
+        LeaveCut(cut, r.First + k);
       }
       triangles -= r.Owned;
       cut.Keep(p, d);
       next.push_back(pe);
     }
   }
+  return triangles;
+}
+} // namespace
+
+// flatten: as SelectDepthFirst
+[[gnu::flatten]] void Selector::SelectIncremental(const SelectionInput& in, uint8_t* state,
+  uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
+{
+  const Frame frame = MakeFrame(
+    this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
+  this->Previous.clear(); // rebuilt below from the new front
+  CutWriter cut{ state, reason, cullMask, this->Previous, stats };
+  this->Stack.clear();
+  this->NextFront.clear();
+  int64_t triangles =
+    RefineFront(frame, this->Front, this->Stack, this->NextFront, cut, this->FrontTriangles);
+  triangles = CoarsenFront(frame, this->NextFront, this->Mark, this->MarkValue, cut, triangles);
   // the new front: the cells still in the cut
   this->Previous.clear();
   this->Front.clear();
-  for (const Entry& e : next)
+  for (const Entry& e : this->NextFront)
   {
     if (state[e.Node] != NotInCut)
     {
@@ -1575,161 +1603,206 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
   stats.BudgetTriangles = triangles;
 }
 
-// flatten: as SelectDepthFirst (84 ns per visited node against 88 ns)
-[[gnu::flatten]] void Selector::SelectWithinBudget(const SelectionInput& in, uint8_t* state,
-  uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
+/**
+ * The budget walk's state and steps (SelectWithinBudget; "Triangle budget" in plodSelector.h):
+ * the cells judged off a stack, the refinements waiting in the max-heap, and the two counts,
+ * what the budget counts (CountDrawable, when a refinement leaves the queue) and the cut's.
+ */
+struct Selector::BudgetWalk
 {
-  const OctreeView& v = this->View;
-  // (no foveation table: the budget's priorities need the exact factor)
-  const Frame frame =
-    MakeFrame(v, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights);
-  CutWriter cut{ state, reason, cullMask, this->Previous, stats };
-  std::vector<Entry>& stack = this->Stack;
-  std::vector<Candidate>& queue = this->Queue;
-  std::vector<WaitingCell>& waiting = this->Waiting;
-  stack.clear();
-  queue.clear();
-  waiting.clear();
-  // max-heap order: the larger key, then the larger own priority (Candidate::Order), then the
-  // smaller node index (the coarser cell: nodes are stored level by level)
-  const auto below = [](const Candidate& a, const Candidate& b) {
+  Selector& S;
+  const Frame& F;
+  const SelectionInput& In;
+  CutWriter& Cut;
+  SelectionStats& Stats;
+  int64_t Triangles = 0;
+  int64_t CutTriangles = 0;
+  bool Refused = false;
+  /// How many queued refinements own k triangles, for 0 < k < Few: whether one of them surely
+  /// fits a small room left (SkipMisfits; it counts at most what it owns).
+  static constexpr int64_t Few = 64;
+  int32_t FewOwning[Few] = {};
+
+  /// Max-heap order: the larger key, then the larger own priority (Candidate::Order), then the
+  /// smaller node index (the coarser cell: nodes are stored level by level).
+  static bool Below(const Candidate& a, const Candidate& b)
+  {
     return a.Order != b.Order ? a.Order < b.Order : a.Node > b.Node;
-  };
-  // what the budget counts (CountDrawable: counted when a refinement leaves the queue) and the
-  // cut's count
-  int64_t triangles = 0, cutTriangles = 0;
-  // how many queued refinements own k triangles, for 0 < k < Few: whether one of them surely
-  // fits a small room left (SkipMisfits; it counts at most what it owns)
-  constexpr int64_t Few = 64;
-  int32_t few[Few] = {};
-  const auto count = [&few](int64_t owned, int32_t change) {
+  }
+
+  void CountOwning(int64_t owned, int32_t change)
+  {
     if (owned > 0 && owned < Few)
-      few[owned] += change;
-  };
-  // judges the cells on the stack, children of a refinement of priority `bound`: cut cells are
-  // written, floors refined at once, the other refinements queued with a key of at most `bound`
-  // (monotone keys: the queue then yields refinements in non-increasing key order)
-  auto judgeStack = [&](float bound) {
+      this->FewOwning[owned] += change;
+  }
+
+  /// Judges the cells on the stack, children of a refinement of priority `bound`: cut cells are
+  /// written, floors refined at once, the other refinements queued with a key of at most
+  /// `bound` (monotone keys: the queue then yields refinements in non-increasing key order).
+  void JudgeStack(float bound)
+  {
+    const OctreeView& v = this->F.V;
+    std::vector<Entry>& stack = this->S.Stack;
     while (!stack.empty())
     {
       const Entry e = stack.back();
       stack.pop_back();
-      ++stats.Visited;
+      ++this->Stats.Visited;
       uint8_t inside = e.Inside;
-      const Decision d = Judge<true>(frame, e.Node, e.C, e.BrightnessOnly, inside);
-      stats.FoveationFactors += d.Factor ? 1 : 0;
+      const Decision d = Judge<true>(this->F, e.Node, e.C, e.BrightnessOnly, inside);
+      this->Stats.FoveationFactors += d.Factor ? 1 : 0;
       if (d.What != Verdict::Refine)
       {
-        cut.Keep(e.Node, d);
+        this->Cut.Keep(e.Node, d);
         continue;
       }
       const Refinement r = Refinable(v, e.Node);
       if (d.Floor)
       {
-        const int64_t owned = RefineCell(v, e, r, d.BrightnessOnly, inside, stack, cut);
-        cutTriangles += owned;
-        triangles += owned > 0 ? CountDrawable(frame, e.Node, owned, e.C, r.Level) : 0;
+        const int64_t owned = RefineCell(v, e, r, d.BrightnessOnly, inside, stack, this->Cut);
+        this->CutTriangles += owned;
+        this->Triangles += owned > 0 ? CountDrawable(this->F, e.Node, owned, e.C, r.Level) : 0;
         continue;
       }
       const float priority = d.Priority; // single precision, non-negative (QueuePriority)
       const uint64_t order =
         uint64_t(OrderBits(std::min(priority, bound))) << 32 | OrderBits(priority);
-      HeapPush(queue, { order, e.Node, static_cast<uint32_t>(waiting.size()) }, below);
-      count(r.Owned, 1);
-      waiting.push_back(
+      HeapPush(
+        this->S.Queue, { order, e.Node, static_cast<uint32_t>(this->S.Waiting.size()) }, Below);
+      this->CountOwning(r.Owned, 1);
+      this->S.Waiting.push_back(
         { r.Owned, { e.C[0], e.C[1], e.C[2] }, r.First, static_cast<uint8_t>(r.Mask),
           static_cast<uint8_t>(r.Level), inside, d.BrightnessOnly, d.Topology });
     }
-  };
-  // what refining a waiting cell adds to the budget's count, or more than `limit`
-  auto counted = [&](const Candidate& c, int64_t limit) {
-    const WaitingCell& w = waiting[c.Slot];
-    return CountDrawable(frame, c.Node, w.Owned, w.C, w.Level, limit);
-  };
-  // refines a cell that left the queue (adding `add` to the budget's count), and judges its
-  // children under its key
-  auto refineWaiting = [&](const Candidate& c, int64_t add) {
-    const WaitingCell w = waiting[c.Slot]; // (a copy: judging the children grows `waiting`)
-    stats.TopologyRefined += w.Topology ? 1 : 0;
-    const Entry e{ c.Node, { w.C[0], w.C[1], w.C[2] }, false, w.Inside };
-    const int64_t owned = RefineCell(v, e, { w.ChildMask, w.FirstChild, w.Level, w.Owned },
-      w.ChildrenBrightnessOnly, w.Inside, stack, cut);
-    cutTriangles += owned;
-    triangles += owned > 0 ? add : 0;
-    judgeStack(FromOrderBits(static_cast<uint32_t>(c.Order >> 32)));
-  };
-  stack.push_back({ 0, { 0, 0, 0 }, false, 0 });
-  judgeStack(std::numeric_limits<float>::infinity());
-  const bool skip = in.BudgetStop == BudgetStopRule::SkipMisfits;
-  bool refused = false;
-  while (!queue.empty())
+  }
+
+  /// What refining waiting cell `c` adds to the budget's count, or more than `limit`.
+  int64_t Counted(const Candidate& c, int64_t limit) const
   {
-    const Candidate top = queue.front();
-    const WaitingCell w = waiting[top.Slot];
-    const int64_t room = in.TriangleBudget - triangles;
-    const int64_t add = counted(top, room);
-    if (add > room)
+    const WaitingCell& w = this->S.Waiting[c.Slot];
+    return CountDrawable(this->F, c.Node, w.Owned, w.C, w.Level, limit);
+  }
+
+  /// Refines a cell that left the queue (adding `add` to the budget's count), and judges its
+  /// children under its key.
+  void RefineWaiting(const Candidate& c, int64_t add)
+  {
+    const WaitingCell w = this->S.Waiting[c.Slot]; // (a copy: judging children grows Waiting)
+    this->Stats.TopologyRefined += w.Topology ? 1 : 0;
+    const Entry e{ c.Node, { w.C[0], w.C[1], w.C[2] }, false, w.Inside };
+    const int64_t owned = RefineCell(this->F.V, e, { w.ChildMask, w.FirstChild, w.Level, w.Owned },
+      w.ChildrenBrightnessOnly, w.Inside, this->S.Stack, this->Cut);
+    this->CutTriangles += owned;
+    this->Triangles += owned > 0 ? add : 0;
+    this->JudgeStack(FromOrderBits(static_cast<uint32_t>(c.Order >> 32)));
+  }
+
+  /// Draws waiting cell `c` at its vertex, unrefined by the budget.
+  void LeaveWaiting(const Candidate& c)
+  {
+    this->Cut.Add(c.Node, CutDrawn, BudgetLimited);
+    this->Stats.BudgetWaitingTriangles += this->S.Waiting[c.Slot].Owned;
+  }
+
+  /// A misfit at the top of the queue: the first one is reported (it has the largest key of
+  /// any left in the cut: keys leave the queue in non-increasing order).
+  void ReportMisfit(const Candidate& top)
+  {
+    if (!this->Refused)
     {
-      // a misfit. The first one has the largest key of any left in the cut: keys leave the
-      // queue in non-increasing order
-      if (!refused)
+      this->Refused = true;
+      this->Stats.BudgetRefusedPriority = FromOrderBits(static_cast<uint32_t>(top.Order >> 32));
+      this->Stats.BudgetRefusedTriangles =
+        this->Counted(top, std::numeric_limits<int64_t>::max() - 1);
+    }
+  }
+
+  /// Whether a queued refinement owning triangles surely fits in `room`.
+  bool SomeSurelyFits(int64_t room) const
+  {
+    bool fits = room >= Few;
+    for (int64_t k = 1; k <= room && k < Few && !fits; ++k)
+      fits = this->FewOwning[k] > 0;
+    return fits;
+  }
+
+  /**
+   * No queued refinement owning triangles surely fits any more, and the room will not change
+   * until the walk reaches new cells: only refinements owning none are made, and in any order.
+   * One pass over the queue makes them and draws the others, instead of a heap pop for each;
+   * the walk goes on with the refinements they queue, whose keys order them as before. With
+   * the cut's count, the cut is the one that popping the whole queue in order would give; with
+   * the drawn one, a refinement owning more than the room but counting no more than it is drawn
+   * too (at most Few - 1 triangles of room left unused). (The pass reads a copy of the queue,
+   * which the refinements refill: a member, so that its capacity is kept from frame to frame.)
+   */
+  void MakeTheFreeRefinements()
+  {
+    std::vector<Candidate>& rest = this->S.QueueRest;
+    rest.assign(this->S.Queue.begin(), this->S.Queue.end());
+    this->S.Queue.clear();
+    for (const Candidate& c : rest)
+    {
+      const int64_t owned = this->S.Waiting[c.Slot].Owned;
+      this->CountOwning(owned, -1);
+      if (owned > 0 || this->Triangles > this->In.TriangleBudget)
+        this->LeaveWaiting(c);
+      else
+        this->RefineWaiting(c, 0);
+    }
+  }
+
+  /// The walk: from the root, the top refinement made while it fits; a misfit ends the walk
+  /// (StopAtFirstMisfit, so that a larger budget refines a superset of what a smaller one
+  /// refines) or is drawn and the walk goes on (SkipMisfits). What is left waiting is drawn.
+  void Run()
+  {
+    std::vector<Candidate>& queue = this->S.Queue;
+    this->S.Stack.push_back({ 0, { 0, 0, 0 }, false, 0 });
+    this->JudgeStack(std::numeric_limits<float>::infinity());
+    const bool skip = this->In.BudgetStop == BudgetStopRule::SkipMisfits;
+    while (!queue.empty())
+    {
+      const Candidate top = queue.front();
+      const int64_t room = this->In.TriangleBudget - this->Triangles;
+      const int64_t add = this->Counted(top, room);
+      if (add <= room)
       {
-        refused = true;
-        stats.BudgetRefusedPriority = FromOrderBits(static_cast<uint32_t>(top.Order >> 32));
-        stats.BudgetRefusedTriangles = counted(top, std::numeric_limits<int64_t>::max() - 1);
+        HeapPop(queue, Below);
+        this->CountOwning(this->S.Waiting[top.Slot].Owned, -1);
+        this->RefineWaiting(top, add);
+        continue;
       }
-      // StopAtFirstMisfit: the walk ends here, so that a larger budget refines a superset of
-      // what a smaller one refines. SkipMisfits: the misfit is drawn and the walk goes on.
+      this->ReportMisfit(top);
       if (!skip)
         break;
-      HeapPop(queue, below);
-      count(w.Owned, -1);
-      cut.Add(top.Node, CutDrawn, BudgetLimited);
-      stats.BudgetWaitingTriangles += w.Owned;
-      bool fits = room >= Few;
-      for (int64_t k = 1; k <= room && k < Few && !fits; ++k)
-        fits = few[k] > 0;
-      if (fits)
-        continue;
-      // No queued refinement owning triangles surely fits any more, and the room will not
-      // change until the walk reaches new cells: only refinements owning none are made, and in
-      // any order. One pass over the queue makes them and draws the others, instead of a heap
-      // pop for each; the walk goes on with the refinements they queue, whose keys order them
-      // as before. With the cut's count, the cut is the one that popping the whole queue in
-      // order would give; with the drawn one, a refinement owning more than the room but
-      // counting no more than it is drawn too (at most Few - 1 triangles of room left unused).
-      // (the pass reads a copy of the queue, which the refinements refill: a member, so that
-      // its capacity is kept from frame to frame)
-      std::vector<Candidate>& rest = this->QueueRest;
-      rest.assign(queue.begin(), queue.end());
-      queue.clear();
-      for (const Candidate& c : rest)
-      {
-        const WaitingCell& r = waiting[c.Slot];
-        count(r.Owned, -1);
-        if (r.Owned > 0 || triangles > in.TriangleBudget)
-        {
-          cut.Add(c.Node, CutDrawn, BudgetLimited);
-          stats.BudgetWaitingTriangles += r.Owned;
-          continue;
-        }
-        refineWaiting(c, 0);
-      }
-      continue;
+      HeapPop(queue, Below);
+      this->CountOwning(this->S.Waiting[top.Slot].Owned, -1);
+      this->LeaveWaiting(top);
+      if (!this->SomeSurelyFits(room))
+        this->MakeTheFreeRefinements();
     }
-    HeapPop(queue, below);
-    count(w.Owned, -1);
-    refineWaiting(top, add);
+    for (const Candidate& c : queue)
+      this->LeaveWaiting(c);
   }
-  // what the budget left unrefined is drawn at its representative vertex
-  for (const Candidate& c : queue)
-  {
-    cut.Add(c.Node, CutDrawn, BudgetLimited);
-    stats.BudgetWaitingTriangles += waiting[c.Slot].Owned;
-  }
-  stats.CutTriangles = cutTriangles;
-  stats.BudgetTriangles = triangles;
-  stats.BudgetBinding = refused || triangles > in.TriangleBudget;
+};
+
+// flatten: as SelectDepthFirst (84 ns per visited node against 88 ns)
+[[gnu::flatten]] void Selector::SelectWithinBudget(const SelectionInput& in, uint8_t* state,
+  uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
+{
+  // (no foveation table: the budget's priorities need the exact factor)
+  const Frame frame =
+    MakeFrame(this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights);
+  CutWriter cut{ state, reason, cullMask, this->Previous, stats };
+  this->Stack.clear();
+  this->Queue.clear();
+  this->Waiting.clear();
+  BudgetWalk walk{ *this, frame, in, cut, stats };
+  walk.Run();
+  stats.CutTriangles = walk.CutTriangles;
+  stats.BudgetTriangles = walk.Triangles;
+  stats.BudgetBinding = walk.Refused || walk.Triangles > in.TriangleBudget;
 }
 
 } // namespace plod

@@ -499,6 +499,7 @@ private:
     uint8_t* cullMask, SelectionStats& stats);
   void FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     uint8_t* cullMask, SelectionStats& stats);
+  struct BudgetWalk; // SelectWithinBudget's state and steps (plodSelector.cxx)
 
   OctreeView View;
   std::vector<Entry> Stack;
