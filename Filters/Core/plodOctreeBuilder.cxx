@@ -374,6 +374,11 @@ private:
   bool MakeIncidence();
   bool ComputeNormals();
   bool MakeEdges();
+  /// MakeEdges' steps.
+  bool GroupEdgeUses();
+  void AddBoundaryPlanes(
+    int32_t a, int32_t b, std::vector<std::pair<int32_t, Quadric>>& planes) const;
+  void KeepBoundaryPlanes(std::vector<std::pair<int32_t, Quadric>>& planes);
   bool NoteCoincidentPoints();
   bool FindPassingTriangles();
   bool ComputeCells();
@@ -402,6 +407,14 @@ private:
   static double Widest(const double axis[3], const std::vector<std::array<double, 3>>& normals);
   bool ComputeShapeErrors();
   bool MakeClusters();
+  /// MakeClusters' steps.
+  struct ClusterLevels;
+  bool EdgesDeepestFirst(
+    std::vector<std::pair<int32_t, int32_t>>& edges, std::vector<int64_t>& levelStart);
+  bool UniteLevelByLevel(const std::vector<std::pair<int32_t, int32_t>>& edges,
+    const std::vector<int64_t>& levelStart, std::vector<int64_t>& delta, ClusterLevels& levels);
+  bool NumberClusters(const ClusterLevels& levels);
+  void MarkTopology(std::vector<int64_t>& delta);
   bool TightenCones();
   bool Finish();
 
@@ -497,6 +510,13 @@ private:
   void Material(int64_t p, Range& d, Range& s) const;
   void TriangleMaterial(int64_t t, Range& d, Range& s) const;
   void Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out) const;
+  /// Descend's two ways: the few finest cells of the triangle's box (false when there are more
+  /// than 27), or a walk down from its holder. `p`: its corners, `lo`, `hi`: its box, `key`:
+  /// its corners' leaf keys.
+  bool RecordByFinestCells(int64_t t, const double p[3][3], const double lo[3], const double hi[3],
+    const uint64_t key[3], std::vector<std::pair<int32_t, int32_t>>& out) const;
+  void RecordByDescent(int64_t t, const double p[3][3], const double lo[3], const double hi[3],
+    const uint64_t key[3], std::vector<std::pair<int32_t, int32_t>>& out) const;
   void PlaceVertex(const CellSums& s, uint64_t key, int level, float* out) const;
 
   const Source& S;
@@ -1095,57 +1115,12 @@ bool MeshBuild::MakeEdges()
 {
   this->Report.Phase("edges", 0.4, 0.45);
   OctreeArrays& o = this->Out;
-  // every edge use, grouped by its lower end point and sorted
-  std::vector<int64_t>& start = this->EdgeStart;
-  std::vector<int32_t>& to = this->EdgeTo;
-  start.assign(this->Points + 1, 0);
-  for (int64_t t = 0; t < this->Tris; ++t)
-  {
-    if (!this->Tick(t, this->Tris, 0.0, 0.2))
-    {
-      return false;
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
-      ++start[std::min(a, b) + 1];
-    }
-  }
-  for (int64_t p = 0; p < this->Points; ++p)
-  {
-    start[p + 1] += start[p];
-  }
-  to.resize(3 * this->Tris);
-  {
-    std::vector<int64_t> cursor(start.begin(), start.end() - 1);
-    for (int64_t t = 0; t < this->Tris; ++t)
-    {
-      if (!this->Tick(t, this->Tris, 0.2, 0.4))
-      {
-        return false;
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        // the edge a -> b under its lower end; a use from the higher end down is stored as the
-        // complement of the higher end, so that the orientation of every use is known below
-        const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
-        to[cursor[std::min(a, b)]++] = a < b ? b : ~a;
-      }
-    }
-  }
-  // each point's uses sorted by the other end, upward uses before downward ones
-  this->For(this->Points, 4096, [&](int64_t b, int64_t e) {
-    for (int64_t p = b; p < e; ++p)
-    {
-      std::sort(to.begin() + start[p], to.begin() + start[p + 1], [](int32_t x, int32_t y) {
-        return EdgeEnd(x) != EdgeEnd(y) ? EdgeEnd(x) < EdgeEnd(y) : x > y;
-      });
-    }
-  });
-  if (!this->Report(0.5))
+  if (!this->GroupEdgeUses())
   {
     return false;
   }
+  std::vector<int64_t>& start = this->EdgeStart;
+  std::vector<int32_t>& to = this->EdgeTo;
   // uses of each edge: once on the boundary, twice inside a manifold. A boundary edge adds to
   // the cells of its two ends the plane through it perpendicular to its triangle, so that
   // representatives stay on an open surface's rim; their leaves are flagged.
@@ -1172,39 +1147,7 @@ bool MeshBuild::MakeEdges()
       {
         ++this->R.NumberOfBoundaryEdges;
         const int32_t a = static_cast<int32_t>(p), b = EdgeEnd(to[i]);
-        // the edge's triangle: among the triangles of whichever end has fewer, the one holding
-        // the other end (a hub of d boundary spokes then costs d, not d^2)
-        int64_t tri = -1;
-        const bool fromA =
-          this->IncStart[a + 1] - this->IncStart[a] <= this->IncStart[b + 1] - this->IncStart[b];
-        const int32_t from = fromA ? a : b, other = fromA ? b : a;
-        for (int64_t k = this->IncStart[from]; k < this->IncStart[from + 1] && tri < 0; ++k)
-        {
-          const int32_t* c = &o.Triangles[3 * this->Inc[k]];
-          if (c[0] == other || c[1] == other || c[2] == other)
-          {
-            tri = this->Inc[k];
-          }
-        }
-        double n[3], x[3], y[3];
-        if (tri >= 0 && this->Face(tri, n) > 0)
-        {
-          this->Position(a, x);
-          this->Position(b, y);
-          const double e[3] = { y[0] - x[0], y[1] - x[1], y[2] - x[2] };
-          double m[3];
-          Cross(e, n, m);
-          const double len = std::sqrt(Dot(m, m));
-          if (len > 0)
-          {
-            for (int k = 0; k < 3; ++k)
-              m[k] /= len;
-            Quadric q;
-            q.AddPlane(m, x, BoundaryWeight * Dot(e, e));
-            planes.emplace_back(a, q);
-            planes.emplace_back(b, q);
-          }
-        }
+        this->AddBoundaryPlanes(a, b, planes);
         o.Flags[o.PointLeaf[a]] |= NodeBoundary;
         o.Flags[o.PointLeaf[b]] |= NodeBoundary;
       }
@@ -1220,6 +1163,105 @@ bool MeshBuild::MakeEdges()
   {
     o.Flags[o.Parent[n]] |= o.Flags[n] & NodeBoundary;
   }
+  this->KeepBoundaryPlanes(planes);
+  return this->Report(1.0);
+}
+
+/// Every edge use (EdgeStart, EdgeTo), grouped by its lower end point and sorted by the other
+/// end, upward uses before downward ones (a use from the higher end down is stored as the
+/// complement of the higher end, so that the orientation of every use is known).
+bool MeshBuild::GroupEdgeUses()
+{
+  const OctreeArrays& o = this->Out;
+  std::vector<int64_t>& start = this->EdgeStart;
+  std::vector<int32_t>& to = this->EdgeTo;
+  start.assign(this->Points + 1, 0);
+  for (int64_t t = 0; t < this->Tris; ++t)
+  {
+    if (!this->Tick(t, this->Tris, 0.0, 0.2))
+    {
+      return false;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
+      ++start[std::min(a, b) + 1];
+    }
+  }
+  for (int64_t p = 0; p < this->Points; ++p)
+  {
+    start[p + 1] += start[p];
+  }
+  to.resize(3 * this->Tris);
+  std::vector<int64_t> cursor(start.begin(), start.end() - 1);
+  for (int64_t t = 0; t < this->Tris; ++t)
+  {
+    if (!this->Tick(t, this->Tris, 0.2, 0.4))
+    {
+      return false;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      const int32_t a = o.Triangles[3 * t + k], b = o.Triangles[3 * t + (k + 1) % 3];
+      to[cursor[std::min(a, b)]++] = a < b ? b : ~a;
+    }
+  }
+  this->For(this->Points, 4096, [&](int64_t b, int64_t e) {
+    for (int64_t p = b; p < e; ++p)
+    {
+      std::sort(to.begin() + start[p], to.begin() + start[p + 1], [](int32_t x, int32_t y) {
+        return EdgeEnd(x) != EdgeEnd(y) ? EdgeEnd(x) < EdgeEnd(y) : x > y;
+      });
+    }
+  });
+  return this->Report(0.5);
+}
+
+/// The plane through boundary edge a-b perpendicular to its triangle, weighted by the edge's
+/// squared length, for the cells of both ends. The edge's triangle: among the triangles of
+/// whichever end has fewer, the one holding the other end (a hub of d boundary spokes then
+/// costs d, not d^2). A degenerate triangle or edge adds nothing.
+void MeshBuild::AddBoundaryPlanes(
+  int32_t a, int32_t b, std::vector<std::pair<int32_t, Quadric>>& planes) const
+{
+  const OctreeArrays& o = this->Out;
+  int64_t tri = -1;
+  const bool fromA =
+    this->IncStart[a + 1] - this->IncStart[a] <= this->IncStart[b + 1] - this->IncStart[b];
+  const int32_t from = fromA ? a : b, other = fromA ? b : a;
+  for (int64_t k = this->IncStart[from]; k < this->IncStart[from + 1] && tri < 0; ++k)
+  {
+    const int32_t* c = &o.Triangles[3 * this->Inc[k]];
+    if (c[0] == other || c[1] == other || c[2] == other)
+    {
+      tri = this->Inc[k];
+    }
+  }
+  double n[3], x[3], y[3];
+  if (tri < 0 || this->Face(tri, n) <= 0)
+  {
+    return;
+  }
+  this->Position(a, x);
+  this->Position(b, y);
+  const double e[3] = { y[0] - x[0], y[1] - x[1], y[2] - x[2] };
+  double m[3];
+  Cross(e, n, m);
+  const double len = std::sqrt(Dot(m, m));
+  if (len > 0)
+  {
+    for (int k = 0; k < 3; ++k)
+      m[k] /= len;
+    Quadric q;
+    q.AddPlane(m, x, BoundaryWeight * Dot(e, e));
+    planes.emplace_back(a, q);
+    planes.emplace_back(b, q);
+  }
+}
+
+/// The boundary planes summed per point, in point order (BoundaryQuadric).
+void MeshBuild::KeepBoundaryPlanes(std::vector<std::pair<int32_t, Quadric>>& planes)
+{
   std::stable_sort(planes.begin(), planes.end(),
     [](const std::pair<int32_t, Quadric>& x, const std::pair<int32_t, Quadric>& y) {
       return x.first < y.first;
@@ -1235,7 +1277,6 @@ bool MeshBuild::MakeEdges()
       this->BoundaryQuadric.back().second.Add(pl.second);
     }
   }
-  return this->Report(1.0);
 }
 
 bool MeshBuild::NoteCoincidentPoints()
@@ -1314,56 +1355,71 @@ void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out
     hi[a] = std::max({ p[0][a], p[1][a], p[2][a] });
   }
   const uint64_t key[3] = { this->LeafKey(c[0]), this->LeafKey(c[1]), this->LeafKey(c[2]) };
+  if (!this->RecordByFinestCells(t, p, lo, hi, key, out))
+  {
+    this->RecordByDescent(t, p, lo, hi, key, out);
+  }
+}
+
+bool MeshBuild::RecordByFinestCells(int64_t t, const double p[3][3], const double lo[3],
+  const double hi[3], const uint64_t key[3], std::vector<std::pair<int32_t, int32_t>>& out) const
+{
   // the usual case, a triangle about a cell across: test the few finest cells of its bounding
   // box; a cell it meets without a corner records the triangle at its deepest existing
   // ancestor-or-self, unless that node holds a corner (then its cone has the normal already)
+  const double scale = std::ldexp(1.0, this->L);
+  const double slack = 1e-6; // positions are floats: a hair's rounding at a cell face
+  int64_t ilo[3], ihi[3], cells = 1;
+  for (int a = 0; a < 3; ++a)
   {
-    const double scale = std::ldexp(1.0, this->L);
-    const double slack = 1e-6; // positions are floats: a hair's rounding at a cell face
-    int64_t ilo[3], ihi[3], cells = 1;
-    for (int a = 0; a < 3; ++a)
-    {
-      ilo[a] = std::max<int64_t>(0, static_cast<int64_t>(std::floor(lo[a] * scale - slack)));
-      ihi[a] = std::min<int64_t>(
-        int64_t(1) << this->L, static_cast<int64_t>(std::floor(hi[a] * scale + slack)));
-      cells *= ihi[a] - ilo[a] + 1;
-    }
-    if (cells <= 27)
-    {
-      const double h = 1.0 / scale;
-      const TriangleBoxTester tester(p[0], p[1], p[2]);
-      for (int64_t z = ilo[2]; z <= ihi[2]; ++z)
-        for (int64_t y = ilo[1]; y <= ihi[1]; ++y)
-          for (int64_t x = ilo[0]; x <= ihi[0]; ++x)
-          {
-            if (x >= (int64_t(1) << this->L) || y >= (int64_t(1) << this->L) ||
-              z >= (int64_t(1) << this->L))
-              continue;
-            const uint64_t cell = MortonEncode(uint32_t(x), uint32_t(y), uint32_t(z));
-            if (cell == key[0] || cell == key[1] || cell == key[2])
-              continue;
-            const double clo[3] = { x * h, y * h, z * h };
-            if (!tester.Meets(clo, h))
-              continue;
-            for (int l = this->L; l >= 0; --l)
-            {
-              const int shift = 3 * (this->L - l);
-              const uint64_t k = cell >> shift;
-              if ((key[0] >> shift) == k || (key[1] >> shift) == k || (key[2] >> shift) == k)
-                break; // a corner's ancestor: its cone holds the normal
-              const auto& level = this->Keys[l];
-              auto it = std::lower_bound(level.begin(), level.end(), k);
-              if (it != level.end() && *it == k)
-              {
-                out.emplace_back(static_cast<int32_t>(this->Offset[l] + (it - level.begin())),
-                  static_cast<int32_t>(t));
-                break;
-              }
-            }
-          }
-      return;
-    }
+    ilo[a] = std::max<int64_t>(0, static_cast<int64_t>(std::floor(lo[a] * scale - slack)));
+    ihi[a] = std::min<int64_t>(
+      int64_t(1) << this->L, static_cast<int64_t>(std::floor(hi[a] * scale + slack)));
+    cells *= ihi[a] - ilo[a] + 1;
   }
+  if (cells > 27)
+  {
+    return false;
+  }
+  const double h = 1.0 / scale;
+  const TriangleBoxTester tester(p[0], p[1], p[2]);
+  for (int64_t z = ilo[2]; z <= ihi[2]; ++z)
+    for (int64_t y = ilo[1]; y <= ihi[1]; ++y)
+      for (int64_t x = ilo[0]; x <= ihi[0]; ++x)
+      {
+        if (x >= (int64_t(1) << this->L) || y >= (int64_t(1) << this->L) ||
+          z >= (int64_t(1) << this->L))
+          continue;
+        const uint64_t cell = MortonEncode(uint32_t(x), uint32_t(y), uint32_t(z));
+        if (cell == key[0] || cell == key[1] || cell == key[2])
+          continue;
+        const double clo[3] = { x * h, y * h, z * h };
+        if (!tester.Meets(clo, h))
+          continue;
+        for (int l = this->L; l >= 0; --l)
+        {
+          const int shift = 3 * (this->L - l);
+          const uint64_t k = cell >> shift;
+          if ((key[0] >> shift) == k || (key[1] >> shift) == k || (key[2] >> shift) == k)
+            break; // a corner's ancestor: its cone holds the normal
+          const auto& level = this->Keys[l];
+          auto it = std::lower_bound(level.begin(), level.end(), k);
+          if (it != level.end() && *it == k)
+          {
+            out.emplace_back(static_cast<int32_t>(this->Offset[l] + (it - level.begin())),
+              static_cast<int32_t>(t));
+            break;
+          }
+        }
+      }
+  return true;
+}
+
+/// A walk down from the triangle's holder: a cell it meets without a corner records it at the
+/// cell's node, or at the node where the cell has no child.
+void MeshBuild::RecordByDescent(int64_t t, const double p[3][3], const double lo[3],
+  const double hi[3], const uint64_t key[3], std::vector<std::pair<int32_t, int32_t>>& out) const
+{
   const TriangleBoxTester tester(p[0], p[1], p[2]);
   int32_t stack[8 * (MaxFinestLevel + 1)];
   int top = 0;
@@ -1500,11 +1556,17 @@ void MeshBuild::PlaceVertex(const CellSums& s, uint64_t key, int level, float* o
   }
 }
 
+/// Clusters per level, with level-local ids (MakeClusters): a point standing for each, its
+/// parent cluster's level-local id, and each node's first cluster.
+struct MeshBuild::ClusterLevels
+{
+  std::vector<std::vector<int32_t>> RepPoint, ParentLocal;
+  std::vector<int32_t> FirstLocal;
+};
+
 bool MeshBuild::MakeClusters()
 {
   this->Report.Phase("clusters", 0.45, 0.55);
-  OctreeArrays& o = this->Out;
-  const int L = this->L;
   // per node, F + U - E of the triangles, edges and unions whose lowest common node it is
   std::vector<int64_t> delta(this->Nodes, 0);
   for (int64_t t = 0; t < this->Tris; ++t)
@@ -1515,7 +1577,25 @@ bool MeshBuild::MakeClusters()
     }
     ++delta[this->Holder(t)];
   }
-  // the level of each unique edge's lowest common node
+  std::vector<std::pair<int32_t, int32_t>> edges;
+  std::vector<int64_t> levelStart;
+  ClusterLevels levels;
+  if (!this->EdgesDeepestFirst(edges, levelStart) ||
+    !this->UniteLevelByLevel(edges, levelStart, delta, levels) || !this->NumberClusters(levels))
+  {
+    return false;
+  }
+  this->MarkTopology(delta);
+  return this->Report(1.0);
+}
+
+/// The unique edges (EdgeStart, EdgeTo, released here) ordered by the level of their lowest
+/// common node, deepest first, so that unions inside a cell happen before those of its parent:
+/// level l's are [levelStart[L - l], levelStart[L - l + 1]).
+bool MeshBuild::EdgesDeepestFirst(
+  std::vector<std::pair<int32_t, int32_t>>& edges, std::vector<int64_t>& levelStart)
+{
+  const int L = this->L;
   std::vector<int64_t>& start = this->EdgeStart;
   std::vector<int32_t>& to = this->EdgeTo;
   std::vector<int64_t> perLevel(L + 1, 0);
@@ -1545,36 +1625,40 @@ bool MeshBuild::MakeClusters()
   {
     return false;
   }
-  // edges deepest first, so that unions inside a cell happen before those of its parent
-  std::vector<int64_t> levelStart(L + 2, 0);
+  levelStart.assign(L + 2, 0);
   for (int l = L; l >= 0; --l)
   {
     levelStart[L - l + 1] = levelStart[L - l] + perLevel[l];
   }
-  std::vector<std::pair<int32_t, int32_t>> edges(levelStart[L + 1]);
+  edges.resize(levelStart[L + 1]);
+  std::vector<int64_t> cursor(levelStart.begin(), levelStart.end() - 1);
+  for (int64_t p = 0; p < this->Points; ++p)
   {
-    std::vector<int64_t> cursor(levelStart.begin(), levelStart.end() - 1);
-    for (int64_t p = 0; p < this->Points; ++p)
+    for (int64_t i = start[p]; i < start[p + 1]; ++i)
     {
-      for (int64_t i = start[p]; i < start[p + 1]; ++i)
+      if (level[i] != 255)
       {
-        if (level[i] != 255)
-        {
-          edges[cursor[L - level[i]]++] = { static_cast<int32_t>(p), to[i] };
-        }
+        edges[cursor[L - level[i]]++] = { static_cast<int32_t>(p), to[i] };
       }
     }
   }
   std::vector<int64_t>().swap(start);
   std::vector<int32_t>().swap(to);
-  std::vector<uint8_t>().swap(level);
-  if (!this->Report(0.4))
-  {
-    return false;
-  }
+  return this->Report(0.4);
+}
 
-  // Union-find over the points, level by level from the leaves: after the unions of level l,
-  // the roots of a level-l cell's points are its clusters (the components of its sub-mesh).
+/**
+ * Union-find over the points, level by level from the leaves: after the unions of level l, the
+ * roots of a level-l cell's points are its clusters (the components of its sub-mesh). Each
+ * edge takes one from its lowest common node's `delta`, each union gives one back. The leaves'
+ * clusters are numbered from their points (PointCluster, level-local for now), each inner
+ * node's from its children's.
+ */
+bool MeshBuild::UniteLevelByLevel(const std::vector<std::pair<int32_t, int32_t>>& edges,
+  const std::vector<int64_t>& levelStart, std::vector<int64_t>& delta, ClusterLevels& levels)
+{
+  OctreeArrays& o = this->Out;
+  const int L = this->L;
   std::vector<int32_t> root(this->Points);
   std::iota(root.begin(), root.end(), 0);
   auto find = [&root](int32_t x) {
@@ -1601,9 +1685,12 @@ bool MeshBuild::MakeClusters()
       }
     }
   };
-  // clusters per level, with level-local ids: a point standing for each, and the parent
-  std::vector<std::vector<int32_t>> repPoint(L + 1), parentLocal(L + 1);
-  std::vector<int32_t> firstLocal(this->Nodes);
+  std::vector<std::vector<int32_t>>& repPoint = levels.RepPoint;
+  std::vector<std::vector<int32_t>>& parentLocal = levels.ParentLocal;
+  std::vector<int32_t>& firstLocal = levels.FirstLocal;
+  repPoint.assign(L + 1, {});
+  parentLocal.assign(L + 1, {});
+  firstLocal.assign(this->Nodes, 0);
   std::vector<int32_t> tag(this->Points, -1);
   std::vector<int32_t> touched;
   unite(L);
@@ -1664,11 +1751,20 @@ bool MeshBuild::MakeClusters()
       touched.clear();
     }
   }
-  // global ids: level by level from the root, in node order inside a level
+  return true;
+}
+
+/// The clusters' global ids (level by level from the root, in node order inside a level) and
+/// their arrays: FirstCluster, ClusterNode, ClusterParent, PointCluster.
+bool MeshBuild::NumberClusters(const ClusterLevels& levels)
+{
+  OctreeArrays& o = this->Out;
+  const int L = this->L;
   this->ClusterOffset.assign(L + 2, 0);
   for (int l = 0; l <= L; ++l)
   {
-    this->ClusterOffset[l + 1] = this->ClusterOffset[l] + static_cast<int64_t>(repPoint[l].size());
+    this->ClusterOffset[l + 1] =
+      this->ClusterOffset[l] + static_cast<int64_t>(levels.RepPoint[l].size());
   }
   const int64_t clusters = this->ClusterOffset[L + 1];
   if (clusters > MaxIndex)
@@ -1685,7 +1781,7 @@ bool MeshBuild::MakeClusters()
   {
     for (int64_t n = this->Offset[l]; n < this->Offset[l + 1]; ++n)
     {
-      o.FirstCluster[n] = static_cast<int32_t>(this->ClusterOffset[l] + firstLocal[n]);
+      o.FirstCluster[n] = static_cast<int32_t>(this->ClusterOffset[l] + levels.FirstLocal[n]);
     }
   }
   for (int l = 0; l <= L; ++l)
@@ -1698,7 +1794,7 @@ bool MeshBuild::MakeClusters()
         o.ClusterNode[c] = static_cast<int32_t>(n);
         o.ClusterParent[c] = l == 0 ? -1
                                     : static_cast<int32_t>(this->ClusterOffset[l - 1] +
-                                        parentLocal[l][c - this->ClusterOffset[l]]);
+                                        levels.ParentLocal[l][c - this->ClusterOffset[l]]);
       }
     }
   }
@@ -1706,7 +1802,14 @@ bool MeshBuild::MakeClusters()
   {
     o.PointCluster[p] = static_cast<int32_t>(this->ClusterOffset[L] + o.PointCluster[p]);
   }
-  // topology: a union of discs when V - E + F equals the number of components
+  return true;
+}
+
+/// Topology: a node's sub-mesh is a union of discs when V - E + F equals its number of
+/// components, that is when the sum of `delta` over its subtree is 0 (NodeTopologySafe).
+void MeshBuild::MarkTopology(std::vector<int64_t>& delta)
+{
+  OctreeArrays& o = this->Out;
   for (int64_t n = this->Nodes - 1; n > 0; --n)
   {
     delta[o.Parent[n]] += delta[n];
@@ -1719,7 +1822,6 @@ bool MeshBuild::MakeClusters()
     unsafe += delta[n] == 0 ? 0 : 1;
   }
   this->R.NumberOfUnsafeNodes = unsafe;
-  return this->Report(1.0);
 }
 
 std::pair<std::vector<std::pair<int32_t, int32_t>>::const_iterator,
