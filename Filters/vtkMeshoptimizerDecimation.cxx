@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkMeshoptimizerDecimation);
@@ -38,6 +39,110 @@ void vtkMeshoptimizerDecimation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LockBorder: " << (this->LockBorder ? "on" : "off") << "\n";
   os << indent << "NumberOfTriangles: " << this->NumberOfTriangles << "\n";
   os << indent << "ResultError: " << this->ResultError << "\n";
+}
+
+namespace
+{
+/// The points relative to the centre of their bounds, in single precision, into `positions`;
+/// false (and `why`) at a non-finite coordinate.
+bool CenteredPositions(vtkPoints* points, std::vector<float>& positions, std::string& why)
+{
+  const vtkIdType numPoints = points->GetNumberOfPoints();
+  double bounds[6];
+  points->GetBounds(bounds);
+  const double centre[3] = { 0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+    0.5 * (bounds[4] + bounds[5]) };
+  positions.resize(3 * static_cast<size_t>(numPoints));
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    double p[3];
+    points->GetPoint(i, p);
+    for (int a = 0; a < 3; ++a)
+    {
+      if (!std::isfinite(p[a]))
+      {
+        why = "point " + std::to_string(i) + " has a non-finite coordinate: nothing is simplified";
+        return false;
+      }
+      positions[3 * i + a] = static_cast<float>(p[a] - centre[a]);
+    }
+  }
+  return true;
+}
+
+/// The triangles' point ids into `indices`; false (and `why`) at a cell that is not a triangle
+/// or a point id outside [0, numPoints).
+bool TriangleIndices(
+  vtkCellArray* polys, vtkIdType numPoints, std::vector<unsigned int>& indices, std::string& why)
+{
+  indices.clear();
+  indices.reserve(3 * static_cast<size_t>(polys->GetNumberOfCells()));
+  auto it = vtk::TakeSmartPointer(polys->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    if (n != 3)
+    {
+      why = "cell " + std::to_string(it->GetCurrentCellId()) + " has " + std::to_string(n) +
+        " points: only triangles are simplified (run vtkTriangleFilter)";
+      return false;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      if (ids[k] < 0 || ids[k] >= numPoints)
+      {
+        why = "cell " + std::to_string(it->GetCurrentCellId()) + " refers to point " +
+          std::to_string(ids[k]) + ", out of range [0, " + std::to_string(numPoints) + ")";
+        return false;
+      }
+      indices.push_back(static_cast<unsigned int>(ids[k]));
+    }
+  }
+  return true;
+}
+
+/// `output` made of the `kept` triangles (3 input point ids each) and the points they use, in
+/// their input order.
+void CompactOutput(vtkPoints* inPoints, const std::vector<unsigned int>& kept, vtkPolyData* output)
+{
+  const vtkIdType numPoints = inPoints->GetNumberOfPoints();
+  std::vector<char> usedPoint(static_cast<size_t>(numPoints), 0);
+  for (unsigned int i : kept)
+  {
+    usedPoint[i] = 1;
+  }
+  std::vector<vtkIdType> newId(static_cast<size_t>(numPoints), -1);
+  auto outPoints = vtkSmartPointer<vtkPoints>::New();
+  outPoints->SetDataType(inPoints->GetDataType());
+  vtkIdType used = 0;
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    if (usedPoint[i])
+    {
+      newId[i] = used++;
+    }
+  }
+  outPoints->SetNumberOfPoints(used);
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    if (newId[i] >= 0)
+    {
+      outPoints->SetPoint(newId[i], inPoints->GetPoint(i));
+    }
+  }
+  auto polys = vtkSmartPointer<vtkCellArray>::New();
+  const size_t count = kept.size();
+  polys->AllocateExact(static_cast<vtkIdType>(count / 3), static_cast<vtkIdType>(count));
+  for (size_t t = 0; t < count; t += 3)
+  {
+    const vtkIdType tri[3] = { newId[kept[t]], newId[kept[t + 1]], newId[kept[t + 2]] };
+    polys->InsertNextCell(3, tri);
+  }
+  output->SetPoints(outPoints);
+  output->SetPolys(polys);
+}
 }
 
 int vtkMeshoptimizerDecimation::RequestData(
@@ -66,52 +171,14 @@ int vtkMeshoptimizerDecimation::RequestData(
       "meshoptimizer indexes points with 32 bits: " << numPoints << " points are too many");
     return 1;
   }
-
-  // coordinates relative to the centre of the bounds, in single precision
-  double bounds[6];
-  inPoints->GetBounds(bounds);
-  const double centre[3] = { 0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
-    0.5 * (bounds[4] + bounds[5]) };
-  std::vector<float> positions(3 * static_cast<size_t>(numPoints));
-  for (vtkIdType i = 0; i < numPoints; ++i)
-  {
-    double p[3];
-    inPoints->GetPoint(i, p);
-    for (int a = 0; a < 3; ++a)
-    {
-      if (!std::isfinite(p[a]))
-      {
-        vtkErrorMacro("point " << i << " has a non-finite coordinate: nothing is simplified");
-        return 1;
-      }
-      positions[3 * i + a] = static_cast<float>(p[a] - centre[a]);
-    }
-  }
-
+  std::vector<float> positions;
   std::vector<unsigned int> indices;
-  indices.reserve(3 * static_cast<size_t>(input->GetPolys()->GetNumberOfCells()));
-  auto it = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
-  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+  std::string why;
+  if (!CenteredPositions(inPoints, positions, why) ||
+    !TriangleIndices(input->GetPolys(), numPoints, indices, why))
   {
-    vtkIdType n;
-    const vtkIdType* ids;
-    it->GetCurrentCell(n, ids);
-    if (n != 3)
-    {
-      vtkErrorMacro("cell " << it->GetCurrentCellId() << " has " << n
-                            << " points: only triangles are simplified (run vtkTriangleFilter)");
-      return 1;
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      if (ids[k] < 0 || ids[k] >= numPoints)
-      {
-        vtkErrorMacro("cell " << it->GetCurrentCellId() << " refers to point " << ids[k]
-                              << ", out of range [0, " << numPoints << ")");
-        return 1;
-      }
-      indices.push_back(static_cast<unsigned int>(ids[k]));
-    }
+    vtkErrorMacro(<< why);
+    return 1;
   }
 
   const size_t triangles = indices.size() / 3;
@@ -129,41 +196,7 @@ int vtkMeshoptimizerDecimation::RequestData(
   this->UpdateProgress(0.9);
   kept.resize(count);
   this->ResultError = error;
-
-  // compact: the points the kept triangles use, in their input order
-  std::vector<char> usedPoint(static_cast<size_t>(numPoints), 0);
-  for (unsigned int i : kept)
-  {
-    usedPoint[i] = 1;
-  }
-  std::vector<vtkIdType> newId(static_cast<size_t>(numPoints), -1);
-  auto outPoints = vtkSmartPointer<vtkPoints>::New();
-  outPoints->SetDataType(inPoints->GetDataType());
-  vtkIdType used = 0;
-  for (vtkIdType i = 0; i < numPoints; ++i)
-  {
-    if (usedPoint[i])
-    {
-      newId[i] = used++;
-    }
-  }
-  outPoints->SetNumberOfPoints(used);
-  for (vtkIdType i = 0; i < numPoints; ++i)
-  {
-    if (newId[i] >= 0)
-    {
-      outPoints->SetPoint(newId[i], inPoints->GetPoint(i));
-    }
-  }
-  auto polys = vtkSmartPointer<vtkCellArray>::New();
-  polys->AllocateExact(static_cast<vtkIdType>(count / 3), static_cast<vtkIdType>(count));
-  for (size_t t = 0; t < count; t += 3)
-  {
-    const vtkIdType tri[3] = { newId[kept[t]], newId[kept[t + 1]], newId[kept[t + 2]] };
-    polys->InsertNextCell(3, tri);
-  }
-  output->SetPoints(outPoints);
-  output->SetPolys(polys);
+  CompactOutput(inPoints, kept, output);
   this->NumberOfTriangles = static_cast<vtkIdType>(count / 3);
   return 1;
 }
