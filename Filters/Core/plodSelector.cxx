@@ -569,6 +569,21 @@ inline double ContourError(const Frame& f, const CellView& cell)
     cell.K;
 }
 
+/// The cosine between the cell's cone axis and the half vector of the unit directions to the
+/// light `vl` and to the eye (Blinn's H, of the specular term and of PSEC's highlight test);
+/// false where the two directions are opposite (no half vector).
+inline bool AxisHalfVectorCosine(const CellView& cell, const double vl[3], double& cosine)
+{
+  double hv[3];
+  for (int a = 0; a < 3; ++a)
+    hv[a] = vl[a] + cell.Ve[a];
+  const double hl = std::sqrt(Dot(hv, hv));
+  if (!(hl > 0))
+    return false;
+  cosine = Dot(cell.Axis, hv) / hl;
+  return true;
+}
+
 /**
  * The shading error (SRCC eq. 7-10, TMM eq. 11-13) in brightness x pixels: the brightness range
  * dB of the cell's cone under the lights (at most 1, a rendered pixel's range), times its
@@ -611,15 +626,11 @@ inline double ShadingError(const Frame& f, const CellView& cell)
       }
       if (MsMax > 0 && l.Specular > 0)
       {
-        double hv[3];
-        for (int a = 0; a < 3; ++a)
-          hv[a] = vl[a] + cell.Ve[a];
-        const double hl = std::sqrt(Dot(hv, hv));
         high = 1.0; // light opposite the eye: no defined half vector
         low = 0.0;
-        if (hl > 0)
+        double cb;
+        if (AxisHalfVectorCosine(cell, vl, cb))
         {
-          const double cb = Dot(cell.Axis, hv) / hl;
           ConeRange(cb, std::sqrt(std::max(0.0, 1 - cb * cb)), cell.CosT, cell.SinT,
             in.SpecularPower, high, low, f.SpecularExponent);
         }
@@ -659,11 +670,8 @@ inline bool PSECFeature(const Frame& f, const CellView& cell)
     const double ll = ToLight(l, cell.X, vl);
     if (!(ll > 0))
       return true;
-    double hv[3];
-    for (int a = 0; a < 3; ++a)
-      hv[a] = vl[a] + cell.Ve[a];
-    const double hl = std::sqrt(Dot(hv, hv));
-    feature = hl > 0 && Dot(cell.Axis, hv) / hl >= cell.CosT;
+    double cb;
+    feature = AxisHalfVectorCosine(cell, vl, cb) && cb >= cell.CosT;
   }
   return feature;
 }
