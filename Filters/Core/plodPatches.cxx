@@ -36,13 +36,7 @@ struct Drawn
         this->N[k] = &v.Normals[3 * (-1 - rep[k])];
       }
     }
-    const double e1[3] = { double(this->X[1][0]) - this->X[0][0],
-      double(this->X[1][1]) - this->X[0][1], double(this->X[1][2]) - this->X[0][2] };
-    const double e2[3] = { double(this->X[2][0]) - this->X[0][0],
-      double(this->X[2][1]) - this->X[0][1], double(this->X[2][2]) - this->X[0][2] };
-    this->F[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    this->F[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    this->F[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    FaceNormal(this->X[0], this->X[1], this->X[2], this->F);
   }
   /// Turned over: the face normal opposes the normals of all three corners.
   bool TurnedOver() const
@@ -59,12 +53,7 @@ struct Drawn
   /// Facing away from the eye (or along the projection direction).
   bool FacesAway(const PatchOptions& o) const
   {
-    double d[3];
-    for (int a = 0; a < 3; ++a)
-    {
-      d[a] = o.Parallel ? -o.ProjectionDirection[a] : o.Eye[a] - double(this->X[0][a]);
-    }
-    return this->F[0] * d[0] + this->F[1] * d[1] + this->F[2] * d[2] < 0;
+    return plod::FacesAway(this->F, this->X[0], o.Eye, o.Parallel, o.ProjectionDirection);
   }
 };
 

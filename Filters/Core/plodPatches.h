@@ -92,6 +92,30 @@ enum class FoldHandling
   ReverseNormals = 2 ///< draw it on its own three corners with reversed normals (the default)
 };
 
+/// The face normal (x1 - x0) x (x2 - x0) of a triangle with float corners, in double.
+inline void FaceNormal(const float* x0, const float* x1, const float* x2, double f[3])
+{
+  const double e1[3] = { double(x1[0]) - x0[0], double(x1[1]) - x0[1], double(x1[2]) - x0[2] };
+  const double e2[3] = { double(x2[0]) - x0[0], double(x2[1]) - x0[1], double(x2[2]) - x0[2] };
+  f[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  f[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  f[2] = e1[0] * e2[1] - e1[1] * e2[0];
+}
+
+/// The back-face rule (PatchOptions::CullBackFaces, and the selector's count of what a budget
+/// draws): a triangle of face normal `f` and first corner `x0` faces away when `f` points away
+/// from the eye, `eye - x0`, or under a parallel projection along `direction`.
+inline bool FacesAway(
+  const double f[3], const float* x0, const double eye[3], bool parallel, const double direction[3])
+{
+  double d[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    d[a] = parallel ? -direction[a] : eye[a] - double(x0[a]);
+  }
+  return f[0] * d[0] + f[1] * d[1] + f[2] * d[2] < 0;
+}
+
 /// Options of GeneratePatches.
 struct PatchOptions
 {

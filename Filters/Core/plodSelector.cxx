@@ -1000,20 +1000,13 @@ inline Refinement Refinable(const OctreeView& v, int64_t n)
 }
 
 /// Whether input triangle `c` faces away from the eye (or along the projection direction): the
-/// patch generator's back-face rule (plodPatches.cxx) on the input corners.
+/// patch generator's back-face rule on the input corners.
 inline bool InputFacesAway(const Frame& f, const int32_t* c)
 {
   const float* x[3] = { &f.V.Points[3 * c[0]], &f.V.Points[3 * c[1]], &f.V.Points[3 * c[2]] };
-  double e1[3], e2[3], d[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    e1[a] = double(x[1][a]) - x[0][a];
-    e2[a] = double(x[2][a]) - x[0][a];
-    d[a] = f.In.Parallel ? -f.In.ProjectionDirection[a] : f.In.Eye[a] - double(x[0][a]);
-  }
-  const double n[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-    e1[0] * e2[1] - e1[1] * e2[0] };
-  return n[0] * d[0] + n[1] * d[1] + n[2] * d[2] < 0;
+  double n[3];
+  FaceNormal(x[0], x[1], x[2], n);
+  return FacesAway(n, x[0], f.In.Eye, f.In.Parallel, f.In.ProjectionDirection);
 }
 
 /**
