@@ -231,12 +231,20 @@ def one_rank(out):
           "triangles fall as the camera moves away: %s" % series)
     check(lod.GetNumberOfBuilds() == 1, "moving the camera builds nothing again")
 
-    # the triangle budget, as a representation property
+    # the triangle budget, as representation properties: estimated (within a few percent), and
+    # exact (never over it)
     dolly_to(view, start)
     display.TriangleBudget = 5000
     Render(view)
-    check(0 < lod.GetNumberOfTriangles() <= 5000, "TriangleBudget 5000 holds (%d triangles)"
-          % lod.GetNumberOfTriangles())
+    binds = series[0] > 5000  # the tolerance cut draws more: the budget decides
+    check((0.85 * 5000 if binds else 0) < lod.GetNumberOfTriangles() <= 1.15 * 5000,
+          "TriangleBudget 5000 holds within its estimate (%d triangles, tolerance cut %d)"
+          % (lod.GetNumberOfTriangles(), series[0]))
+    display.ExactTriangleBudget = 1
+    Render(view)
+    check((0.9 * 5000 if binds else 0) <= lod.GetNumberOfTriangles() <= 5000,
+          "TriangleBudget 5000 holds exactly (%d triangles)" % lod.GetNumberOfTriangles())
+    display.ExactTriangleBudget = 0
     display.TriangleBudget = 0
     Render(view)
     check(lod.GetNumberOfTriangles() == series[0], "no budget: the tolerance cut again (%d)"

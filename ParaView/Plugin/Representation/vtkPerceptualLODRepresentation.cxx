@@ -501,6 +501,14 @@ void vtkPerceptualLODRepresentation::SetTriangleBudget(vtkIdType triangles)
   }
   // with several ranks: split at the next render (ShareFrame)
 }
+void vtkPerceptualLODRepresentation::SetExactTriangleBudget(int exact)
+{
+  this->Actor->GetSelector()->SetExactTriangleBudget(exact != 0);
+}
+int vtkPerceptualLODRepresentation::GetExactTriangleBudget()
+{
+  return this->Actor->GetSelector()->GetExactTriangleBudget() ? 1 : 0;
+}
 void vtkPerceptualLODRepresentation::SetTargetFrameTime(double seconds)
 {
   this->Actor->SetTargetFrameTime(seconds);

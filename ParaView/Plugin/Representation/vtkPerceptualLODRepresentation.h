@@ -121,6 +121,11 @@ public:
   /// documentation).
   void SetTriangleBudget(vtkIdType triangles);
   vtkGetMacro(TriangleBudget, vtkIdType);
+  /// Count the drawn triangles exactly, so that no more than the budget are drawn (off, the
+  /// default: the count is estimated, within a few percent; see
+  /// vtkPerceptualLODSelector::SetExactTriangleBudget). With several ranks, each rank's part.
+  void SetExactTriangleBudget(int exact);
+  int GetExactTriangleBudget();
   /// Hold frames near this many seconds by steering the budget (0, the default: off). With
   /// several ranks, the composited frame: the slowest rank's frame steers every rank's budget.
   void SetTargetFrameTime(double seconds);
