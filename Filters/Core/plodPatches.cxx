@@ -561,7 +561,8 @@ int64_t CountDrawnTriangles(const OctreeView& v, const uint8_t* state, const uin
   bool ok = WalkAboveTheCut(v, state, ws, counters, error);
   const TriangleJudge judge(v, state, cullMask, ws.Reached.data(), options);
   const int64_t ranges = ok ? SplitIntoRanges(v, ws, options.TrianglesPerRange) : 0;
-  std::vector<int64_t> drawn(static_cast<size_t>(ranges), 0);
+  std::vector<int64_t>& drawn = ws.RangeDrawn;
+  drawn.assign(static_cast<size_t>(ranges), 0);
   const auto countRanges = [&](int64_t begin, int64_t end) {
     for (int64_t r = begin; r < end; ++r)
     {

@@ -166,6 +166,7 @@ struct PatchWorkspace
   std::vector<size_t> RangeBounds;
   std::vector<std::vector<PatchDecision>> Decisions;
   std::vector<std::string> RangeErrors;
+  std::vector<int64_t> RangeDrawn; // CountDrawnTriangles: each range's count
 };
 
 /**

@@ -1250,7 +1250,7 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
   if (in.TriangleBudget > 0)
   {
     this->Front.clear();
-    this->SelectWithinBudget(in, state, reason, cullMask, stats);
+    this->SelectWithinBudget(in, in.TriangleBudget, state, reason, cullMask, stats);
     if (in.ExactBudget)
     {
       this->FitDrawnTriangles(in, state, reason, cullMask, stats);
@@ -1275,8 +1275,7 @@ void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8
 {
   // the patch generator's rules: back faces culled when hidden, folds drawn (with
   // FoldHandling::Drop it draws fewer)
-  PatchOptions options;
-  options.For = this->For;
+  PatchOptions& options = this->CountOptions;
   options.CullBackFaces = in.HideBackFaces;
   options.Parallel = in.Parallel;
   for (int a = 0; a < 3; ++a)
@@ -1287,13 +1286,13 @@ void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8
   const auto count = [&]() {
     return CountDrawnTriangles(this->View, state, cullMask, options, this->CountSpace);
   };
-  SelectionInput walk = in;
+  int64_t walked = in.TriangleBudget; // the budget of the last walk
   const auto rewalk = [&](int64_t budget) {
-    walk.TriangleBudget = budget;
+    walked = budget;
     const int64_t visited = stats.Visited;
     this->ClearPrevious(state, reason, cullMask);
     stats = SelectionStats();
-    this->SelectWithinBudget(walk, state, reason, cullMask, stats);
+    this->SelectWithinBudget(in, budget, state, reason, cullMask, stats);
     stats.Visited += visited;
   };
   const int64_t B = in.TriangleBudget;
@@ -1313,7 +1312,7 @@ void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8
     const bool over = drawn > B;
     if (!over && (drawn >= LowFill * double(B) || !stats.BudgetBinding))
       break;
-    const int64_t now = walk.TriangleBudget;
+    const int64_t now = walked;
     const double scaled = std::floor(double(now) * double(B) / double(std::max<int64_t>(1, drawn)));
     const int64_t next = over
       ? std::max<int64_t>(1, std::min<int64_t>(now - 1, int64_t(scaled)))
@@ -1328,7 +1327,7 @@ void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8
       bestDrawn = drawn;
     }
   }
-  if (drawn > B && best >= 0 && best != walk.TriangleBudget)
+  if (drawn > B && best >= 0 && best != walked)
   {
     rewalk(best);
     drawn = bestDrawn;
@@ -1614,6 +1613,7 @@ struct Selector::BudgetWalk
   Selector& S;
   const Frame& F;
   const SelectionInput& In;
+  const int64_t Budget; ///< what the walk may count (In.TriangleBudget, or an exact budget's try)
   CutWriter& Cut;
   SelectionStats& Stats;
   int64_t Triangles = 0;
@@ -1746,7 +1746,7 @@ struct Selector::BudgetWalk
     {
       const int64_t owned = this->S.Waiting[c.Slot].Owned;
       this->CountOwning(owned, -1);
-      if (owned > 0 || this->Triangles > this->In.TriangleBudget)
+      if (owned > 0 || this->Triangles > this->Budget)
         this->LeaveWaiting(c);
       else
         this->RefineWaiting(c, 0);
@@ -1765,7 +1765,7 @@ struct Selector::BudgetWalk
     while (!queue.empty())
     {
       const Candidate top = queue.front();
-      const int64_t room = this->In.TriangleBudget - this->Triangles;
+      const int64_t room = this->Budget - this->Triangles;
       const int64_t add = this->Counted(top, room);
       if (add <= room)
       {
@@ -1789,8 +1789,8 @@ struct Selector::BudgetWalk
 };
 
 // flatten: as SelectDepthFirst (84 ns per visited node against 88 ns)
-[[gnu::flatten]] void Selector::SelectWithinBudget(const SelectionInput& in, uint8_t* state,
-  uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
+[[gnu::flatten]] void Selector::SelectWithinBudget(const SelectionInput& in, int64_t budget,
+  uint8_t* state, uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
   // (no foveation table: the budget's priorities need the exact factor)
   const Frame frame =
@@ -1799,11 +1799,11 @@ struct Selector::BudgetWalk
   this->Stack.clear();
   this->Queue.clear();
   this->Waiting.clear();
-  BudgetWalk walk{ *this, frame, in, cut, stats };
+  BudgetWalk walk{ *this, frame, in, budget, cut, stats };
   walk.Run();
   stats.CutTriangles = walk.CutTriangles;
   stats.BudgetTriangles = walk.Triangles;
-  stats.BudgetBinding = walk.Refused || walk.Triangles > in.TriangleBudget;
+  stats.BudgetBinding = walk.Refused || walk.Triangles > budget;
 }
 
 } // namespace plod

@@ -452,7 +452,11 @@ public:
    * The cut, the reasons, the cull masks and the figures are the serial walk's; only the order of
    * the internal list of cut nodes differs. Unset (default): serial.
    */
-  void SetParallelFor(const ParallelFor& parallelFor) { this->For = parallelFor; }
+  void SetParallelFor(const ParallelFor& parallelFor)
+  {
+    this->For = parallelFor;
+    this->CountOptions.For = parallelFor;
+  }
 
   /// Whether the tolerances refine (a leaf: open) the cell `node` judged with every test and no
   /// context from its parent, as the incremental walk judges the cells of the previous cut and
@@ -499,7 +503,9 @@ private:
     uint8_t* cullMask, SelectionStats& stats);
   void SelectIncremental(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     uint8_t* cullMask, SelectionStats& stats);
-  void SelectWithinBudget(const SelectionInput& in, uint8_t* state, uint8_t* reason,
+  /// The budget walk with a budget of `budget` triangles (in.TriangleBudget, or the exact
+  /// budget's next try).
+  void SelectWithinBudget(const SelectionInput& in, int64_t budget, uint8_t* state, uint8_t* reason,
     uint8_t* cullMask, SelectionStats& stats);
   void FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     uint8_t* cullMask, SelectionStats& stats);
@@ -509,6 +515,7 @@ private:
   std::vector<Entry> Stack;
   std::vector<Candidate> Queue;     // the budget walk's max-heap
   PatchWorkspace CountSpace;        // ExactBudget's count of the drawn triangles
+  PatchOptions CountOptions;        // its rules (For kept, the view's set each frame)
   std::vector<Candidate> QueueRest; // SkipMisfits' last pass: the queue it reads
   std::vector<WaitingCell> Waiting;
   std::vector<float> SinTheta, CosTheta;
