@@ -68,9 +68,9 @@ RULES = (('budget-stop', 'StopAtFirstMisfit'), ('budget-skip', 'SkipMisfits'))
 def measure(name, model, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
     """Rows of the four methods at the tolerance mode's counts, both azimuths."""
     rows = []
-    scene = pf.Scene(model)
+    scene = pf.make_scene(model)
     for az in (0, 90):
-        scene.view(az, pf.DISTANCES['mid'])
+        scene.reset_view(az, pf.DISTANCES['mid'])
         ref = scene.render_actor(scene.ref_actor)
 
         def row(method, target, triangles, img, ms=float('nan'), budget=0):
@@ -101,8 +101,8 @@ def measure(name, model, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
 
 def nesting(name, model, steps=30):
     """Rows of the nesting measurement (module docstring), one per stop rule."""
-    scene = pf.Scene(model)
-    scene.view(0, pf.DISTANCES['mid'])
+    scene = pf.make_scene(model)
+    scene.reset_view(0, pf.DISTANCES['mid'])
     scene.selector.SetTriangleBudget(0)
     scene.render_lod(1.0)
     count = scene.selector.GetNumberOfBudgetTriangles()
@@ -143,14 +143,14 @@ def incremental(name, model, steps=11, step_degrees=3.0):
     rows = []
     scenes = {}
     for method in ('full', 'incremental'):
-        scene = pf.Scene(model)
+        scene = pf.make_scene(model)
         scene.selector.SetIncrementalSelection(method == 'incremental')
         scenes[method] = scene
     for k in range(steps):
         az = k * step_degrees
         ref = None
         for method, scene in scenes.items():
-            scene.view(az, pf.DISTANCES['mid'])
+            scene.reset_view(az, pf.DISTANCES['mid'])
             if ref is None:
                 ref = scene.render_actor(scene.ref_actor)
             img, tris = scene.render_lod(1.0)
@@ -168,11 +168,11 @@ def foveation(name, model, rates=(2.0, 8.0), azimuths=(0, 90)):
     not bind (every factor computed): the cuts must be equal node for node, and so their
     images; PSNR against the smooth-shaded full-resolution image of the view."""
     rows = []
-    scene = pf.Scene(model)
+    scene = pf.make_scene(model)
     s = scene.selector
     s.SetFoveationModeToScreen()
     for az in azimuths:
-        scene.view(az, pf.DISTANCES['mid'])
+        scene.reset_view(az, pf.DISTANCES['mid'])
         camera = scene.renderer.GetActiveCamera()
         gaze = np.array(camera.GetDirectionOfProjection()) + 0.15 * np.array(camera.GetViewUp())
         s.SetGazeDirection(*(gaze / np.linalg.norm(gaze)))
@@ -201,10 +201,10 @@ def foveation(name, model, rates=(2.0, 8.0), azimuths=(0, 90)):
 def drawn(name, model, fractions=(0.05, 0.1, 0.25, 0.5), azimuths=(0, 90, 180)):
     """Rows of the drawn-count measurement (module docstring)."""
     rows = []
-    scene = pf.Scene(model)
+    scene = pf.make_scene(model)
     for dname, dolly in pf.DISTANCES.items():
         for az in azimuths:
-            scene.view(az, dolly)
+            scene.reset_view(az, dolly)
             scene.selector.SetTriangleBudget(0)
             scene.selector.ExactTriangleBudgetOff()
             _, full = scene.render_lod(FLOOR)

@@ -35,43 +35,42 @@ import csv
 import math
 import os
 import sys
-import time
 
 import numpy as np
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
-from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPolyData
-from vtkmodules.vtkFiltersCore import (vtkAppendPolyData, vtkCleanPolyData,
-                                       vtkQuadricDecimation, vtkTriangleFilter)
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer,
-                                         vtkRenderWindow, vtkWindowToImageFilter)
+from vtkmodules.vtkFiltersCore import vtkAppendPolyData, vtkCleanPolyData, vtkTriangleFilter
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import plod_measure as measure  # noqa: E402
 import plod_metrics as metrics  # noqa: E402
+import plod_scene  # noqa: E402
 import perceptual_lod as plod  # noqa: E402
+from plod_scene import decimated as _decimated, read_ply as _read_ply, smooth  # noqa: E402
 
 SIZE = (640, 480)
 DISTANCES = {'far': 0.25, 'mid': 1.0, 'close': 3.0}
 AZIMUTHS = [0, 45, 90, 135, 180, 225, 270, 315]
-BACKGROUND = (0.0, 0.0, 1.0)
+BACKGROUND = plod_scene.BLUE
 
 
 # ---- models ---------------------------------------------------------------------------------
 
 def read_ply(path):
-    """The PLY file, checked (plod_measure.read_ply), as triangles."""
-    tri = vtkTriangleFilter()
-    tri.SetInputData(measure.read_ply(path))
-    tri.Update()
-    pd = vtkPolyData()
-    pd.DeepCopy(tri.GetOutput())
-    return pd
+    """The PLY file, checked, as triangles (plod_scene.read_ply)."""
+    return _read_ply(path, triangles=True)
 
 
-def displaced_sphere(resolution, noise=0.25, seed=11):
-    """A closed detailed model: a UV sphere displaced by random waves (the harness's)."""
-    return measure.generated_model(resolution, noise, seed)
+displaced_sphere = plod_scene.generated_model  # a closed detailed model: a displaced UV sphere
+
+
+def make_scene(model, rule=None):
+    """This protocol's scene (plod_scene.Scene): 640x480 on the blue background."""
+    return plod_scene.Scene(model, size=SIZE, rule=rule, background=BACKGROUND)
+
+
+def decimated(full, target):
+    """vtkQuadricDecimation of `full` to `target` triangles, once: (mesh, triangles)."""
+    mesh, tris, _ = _decimated(full, target)
+    return mesh, tris
 
 
 def grid_surface(nu, nv, fn, closed_u, closed_v):
@@ -179,99 +178,7 @@ def models(data, quick):
     return out
 
 
-smooth = measure.smooth  # smooth point normals, no splitting: the reference shading
-
-
 # ---- rendering ------------------------------------------------------------------------------
-
-def grey_actor(mapper):
-    actor = vtkActor()
-    actor.SetMapper(mapper)
-    prop = actor.GetProperty()
-    prop.SetColor(0.8, 0.8, 0.8)
-    prop.SetDiffuse(0.9)
-    prop.SetSpecular(0.3)
-    prop.SetSpecularPower(20)
-    return actor
-
-
-class Scene:
-    """A model, its octree and LOD pipeline bound to a renderer, and its reference."""
-
-    def __init__(self, model, rule=None):
-        self.model = model
-        self.full = smooth(model)
-        self.bounds = model.GetBounds()
-        self.builder = plod.vtkMultiscaleOctreeBuilder()
-        self.builder.SetInputData(model)
-        if rule == 'mean':
-            self.builder.SetVertexRuleToMean()
-        elif rule == 'qef':
-            self.builder.SetVertexRuleToQEF()
-        t0 = time.perf_counter()
-        self.builder.Update()
-        self.build_s = time.perf_counter() - t0
-        self.selector = plod.vtkPerceptualLODSelector()
-        self.selector.SetInputConnection(self.builder.GetOutputPort())
-        self.patches = plod.vtkMultiscalePatchGenerator()
-        self.patches.SetInputConnection(self.selector.GetOutputPort())
-        self.lod_mapper = vtkPolyDataMapper()
-        self.lod_mapper.SetInputConnection(self.patches.GetOutputPort())
-        self.lod_actor = grey_actor(self.lod_mapper)
-        self.ref_mapper = vtkPolyDataMapper()
-        self.ref_mapper.SetInputData(self.full)
-        self.ref_actor = grey_actor(self.ref_mapper)
-        self.renderer = vtkRenderer()
-        self.renderer.SetBackground(*BACKGROUND)
-        self.window = vtkRenderWindow()
-        self.window.SetOffScreenRendering(1)
-        self.window.SetSize(*SIZE)
-        self.window.AddRenderer(self.renderer)
-        self.binding = plod.vtkPerceptualLODRenderBinding()
-        self.binding.SetRenderer(self.renderer)
-        self.binding.SetSelector(self.selector)
-        self.binding.SetProp3D(self.lod_actor)
-        self.binding.EnabledOff()
-
-    def view(self, azimuth, dolly):
-        camera = self.renderer.GetActiveCamera()
-        camera.SetPosition(0, 0, 1)
-        camera.SetFocalPoint(0, 0, 0)
-        camera.SetViewUp(0, 1, 0)
-        camera.SetViewAngle(30)
-        self.renderer.ResetCamera(self.bounds)
-        camera.Azimuth(azimuth)
-        camera.Dolly(dolly)
-        self.renderer.ResetCameraClippingRange(self.bounds)
-
-    def grab(self):
-        self.window.Render()
-        grab = vtkWindowToImageFilter()
-        grab.SetInput(self.window)
-        grab.ReadFrontBufferOff()
-        grab.Update()
-        img = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars())
-        return img.reshape(SIZE[1], SIZE[0], -1)[..., :3].copy()
-
-    def render_actor(self, actor):
-        self.renderer.RemoveAllViewProps()
-        self.renderer.AddActor(actor)
-        return self.grab()
-
-    def render_lod(self, scale=1.0):
-        self.selector.ScaleTolerances(scale)
-        self.renderer.RemoveAllViewProps()
-        self.renderer.AddActor(self.lod_actor)
-        self.binding.EnabledOn()
-        img = self.grab()
-        self.binding.EnabledOff()
-        return img, self.patches.GetNumberOfTriangles()
-
-    def render_data(self, data):
-        mapper = vtkPolyDataMapper()
-        mapper.SetInputData(data)
-        return self.render_actor(grey_actor(mapper))
-
 
 def is_background(img):
     return (img[..., 0] == 0) & (img[..., 1] == 0) & (img[..., 2] == 255)
@@ -322,14 +229,6 @@ def lum(img):
     return metrics.luminance(img)
 
 
-def decimated(full, target):
-    dec = vtkQuadricDecimation()
-    dec.SetInputData(full)
-    dec.SetTargetReduction(max(0.0, min(0.9999, 1.0 - target / full.GetNumberOfPolys())))
-    dec.Update()
-    return smooth(dec.GetOutput()), dec.GetOutput().GetNumberOfPolys()
-
-
 HAVE_MESHOPT = hasattr(plod, 'vtkMeshoptimizerDecimation')
 
 
@@ -350,7 +249,7 @@ def measure_views(name, scene, writer, scales=(1.0, 8.0), with_qd=True):
     rows = []
     for dname, dolly in DISTANCES.items():
         for az in AZIMUTHS:
-            scene.view(az, dolly)
+            scene.reset_view(az, dolly)
             ref = scene.render_actor(scene.ref_actor)
             ref_mask = ~is_background(ref)
             inner = metrics.erode(ref_mask, 3)
@@ -398,7 +297,7 @@ def measure_finest(name, scene, writer):
     finest.DeepCopy(patches.GetOutput())
     rows = []
     for az in AZIMUTHS:
-        scene.view(az, DISTANCES['mid'])
+        scene.reset_view(az, DISTANCES['mid'])
         ref = scene.render_actor(scene.ref_actor)
         img = scene.render_data(finest)
         holes, gaps, _ = hole_split(metrics.erode(~is_background(ref), 3), img)
@@ -426,7 +325,7 @@ def trade_curve(name, scenes, writer, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
         rows.append(row)
     for az in (0, 90):
         for rule, scene in scenes.items():
-            scene.view(az, DISTANCES['mid'])
+            scene.reset_view(az, DISTANCES['mid'])
             ref = scene.render_actor(scene.ref_actor)
             for scale in scales:
                 img, tris = scene.render_lod(scale)
@@ -613,7 +512,7 @@ def main():
         for name, model in models(args.data, args.quick):
             if args.models and name not in args.models.split(','):
                 continue
-            scene = Scene(model)
+            scene = make_scene(model)
             print('%s: %d triangles, octree %d nodes, level %d, built in %.2f s' % (
                 name, model.GetNumberOfPolys(), scene.builder.GetOutput().GetNumberOfNodes(),
                 scene.builder.GetOutput().GetFinestLevel(), scene.build_s), flush=True)
@@ -621,7 +520,7 @@ def main():
             if hasattr(scene.builder.GetOutput(), 'GetNumberOfSurfaceTriangles'):
                 all_rows += measure_finest(name, scene, writer)
             if not args.no_trade and (args.trade or not args.quick):
-                trade_rows += trade_curve(name, {'qef': scene, 'mean': Scene(model, 'mean')},
+                trade_rows += trade_curve(name, {'qef': scene, 'mean': make_scene(model, 'mean')},
                                           trade)
     summary(all_rows, trade_rows, args.out)
     plot_trade(trade_rows, args.out)

@@ -73,19 +73,14 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 import vtkmodules.vtkRenderingLOD  # noqa: F401
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPolyData
-from vtkmodules.vtkFiltersCore import (vtkPolyDataNormals, vtkQuadricClustering,
-                                       vtkQuadricDecimation)
-from vtkmodules.vtkFiltersSources import vtkSphereSource
-from vtkmodules.vtkIOPLY import vtkPLYReader
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkLight, vtkPolyDataMapper, vtkRenderer,
-                                         vtkRenderWindow, vtkWindowToImageFilter)
+from vtkmodules.vtkFiltersCore import vtkQuadricClustering
+from vtkmodules.vtkRenderingCore import vtkPolyDataMapper
 from vtkmodules.vtkRenderingLOD import vtkLODActor, vtkQuadricLODActor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plod_metrics as metrics  # noqa: E402
-from perceptual_lod import (vtkMultiscaleOctreeBuilder, vtkMultiscaleOctreeCutter,  # noqa: E402
-                            vtkMultiscalePatchGenerator, vtkPerceptualLODRenderBinding,
-                            vtkPerceptualLODSelector, vtkPLYFileCheck)
+import plod_scene  # noqa: E402
+from plod_scene import Scene, generated_model, read_ply, smooth  # noqa: E402
 
 METHODS = {
     # name: (error model, motion model, foveation, velocity criterion of IPV and DPV)
@@ -112,45 +107,6 @@ BUDGET_FLOOR = 1.0 / 16
 
 
 # ---- models -----------------------------------------------------------------------------------
-
-def generated_model(resolution, noise=0.25, seed=11):
-    """A closed detailed model: a UV sphere displaced by random waves (as plodtest::MakeBlob)."""
-    sphere = vtkSphereSource()
-    sphere.SetThetaResolution(resolution)
-    sphere.SetPhiResolution(resolution)
-    sphere.Update()
-    pd = vtkPolyData()
-    pd.DeepCopy(sphere.GetOutput())
-    rng = np.random.default_rng(seed)
-    waves = rng.uniform(-1, 1, size=(8, 4))
-    pts = vtk_to_numpy(pd.GetPoints().GetData())
-    x = pts / np.linalg.norm(pts, axis=1)[:, None]
-    r = np.ones(len(x))
-    for k, w in enumerate(waves):
-        r += noise / 8 * np.sin((1 + 2 * k) * (x @ w[:3]) + 3 * w[3])
-    pts[:] = x * r[:, None]
-    pd.GetPoints().Modified()
-    pd.GetPointData().SetNormals(None)  # the source's normals are the undisplaced sphere's
-    return pd
-
-
-def read_ply(path):
-    """The PLY file as vtkPolyData. vtkPLYFileCheck reads it first: a corrupt file (cut short,
-    counts that lie, indices out of range, ...) raises ValueError saying what is wrong and where,
-    instead of crashing vtkPLYReader; so does a file without points."""
-    check = vtkPLYFileCheck()
-    check.SetFileName(path)
-    if not check.Check():
-        raise ValueError(f'{path}: {check.GetErrorMessage()}')
-    reader = vtkPLYReader()
-    reader.SetFileName(path)
-    reader.Update()
-    if reader.GetOutput().GetNumberOfPoints() == 0:
-        raise ValueError(f'{path}: no points')
-    pd = vtkPolyData()
-    pd.DeepCopy(reader.GetOutput())
-    return pd
-
 
 def bunny_scans(data):
     """The ten range scans merged with bun.conf, each point with its scanner position. A bmesh
@@ -192,176 +148,33 @@ def bunny_scans(data):
     return pd
 
 
-def smooth(data):
-    """A copy of `data` with smooth point normals (no splitting), like the LOD's cone normals."""
-    normals = vtkPolyDataNormals()
-    normals.SetInputData(data)
-    normals.SplittingOff()
-    normals.Update()
-    out = vtkPolyData()
-    out.DeepCopy(normals.GetOutput())
-    return out
+def set_method(scene, name, scale=1.0):
+    """Set method `name` on the scene's selector. `scale` multiplies the tolerances (1: the
+    papers' values); for Cheng, which has no tolerance, it is the foveation rate K of
+    exp(-K D)."""
+    error, motion, fovea, velocity = METHODS[name]
+    s = scene.selector
+    getattr(s, 'SetErrorModelTo' + error)()
+    getattr(s, 'SetMotionModelTo' + motion)()
+    getattr(s, 'SetVelocityCriterionTo' + velocity)()
+    if fovea:
+        s.SetFoveationModeToScreen()
+        s.SetFoveationRate(scale if fovea == 'paper' else 2.0)
+        s.SetGazeDirection(0, 0, -1)
+    else:
+        s.SetFoveationModeToOff()
+    if fovea == 'paper':
+        scale = 1.0
+    s.ScaleTolerances(scale)
+    s.SetDistancePixelThreshold(scale)
 
 
-# ---- the scene ------------------------------------------------------------------------------
-
-class Scene:
-    """One model: its octree, the LOD pipeline, the full-resolution reference, a window."""
-
-    def __init__(self, name, model, size, level=-1, cloud=False):
-        self.name = name
-        self.size = size
-        self.builder = vtkMultiscaleOctreeBuilder()
-        self.builder.SetInputData(model)
-        self.builder.SetFinestLevel(level)
-        if cloud:
-            self.builder.SetViewpointArrayName('ScannerPosition')
-        self.builder.Update()
-        self.octree = self.builder.GetOutput()
-        self.selector = vtkPerceptualLODSelector()
-        self.selector.SetInputConnection(self.builder.GetOutputPort())
-        if cloud:
-            self.selector.HideBackFacesOff()
-        # view, lights and material reach the selector through the render binding (set_view),
-        # as in a user's pipeline: the actor's property (colour 0.8 grey, diffuse 0.9, specular
-        # 0.3, power 20) gives the brightness criterion diffuse 0.72 and specular 0.24
-        self.binding = vtkPerceptualLODRenderBinding()
-        self.binding.EnabledOff()  # pushed in set_view, before the LOD is selected
-        self.clock_last = 0.0
-        self.clock_zero = 0.0
-        self.binding.SetSimulatedTime(0.0)
-        self.binding.SetSelector(self.selector)
-        self.patches = vtkMultiscalePatchGenerator()
-        self.patches.SetInputConnection(self.selector.GetOutputPort())
-        if cloud:
-            # a point cloud has no mesh: its reference is the finest cut of its own octree
-            cutter = vtkMultiscaleOctreeCutter()
-            cutter.SetInputConnection(self.builder.GetOutputPort())
-            finest = vtkMultiscalePatchGenerator()
-            finest.SetInputConnection(cutter.GetOutputPort())
-            finest.Update()
-            mesh = vtkPolyData()
-            mesh.DeepCopy(finest.GetOutput())
-        else:
-            mesh = smooth(model)
-        self.full = mesh
-        b = mesh.GetBounds()
-        self.bounds = b
-        self.centre = np.array([(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2])
-        self.radius = 0.5 * math.sqrt((b[1] - b[0]) ** 2 + (b[3] - b[2]) ** 2 + (b[5] - b[4]) ** 2)
-        self.mapper = vtkPolyDataMapper()
-        self.actor = vtkActor()
-        self.actor.SetMapper(self.mapper)
-        prop = self.actor.GetProperty()
-        prop.SetColor(0.8, 0.8, 0.8)
-        prop.SetDiffuse(0.9)
-        prop.SetSpecular(0.3)
-        prop.SetSpecularPower(20)
-        self.renderer = vtkRenderer()
-        self.renderer.AddActor(self.actor)
-        light = vtkLight()
-        light.SetLightTypeToHeadlight()
-        self.renderer.AddLight(light)
-        self.window = vtkRenderWindow()
-        self.window.SetOffScreenRendering(1)
-        self.window.SetSize(*size)
-        self.window.AddRenderer(self.renderer)
-        # VTK 9.1's vtkQuadricLODActor dereferences the window's interactor without a check and
-        # crashes offscreen without one: attach one, never started
-        from vtkmodules.vtkRenderingCore import vtkRenderWindowInteractor
-        self.interactor = vtkRenderWindowInteractor()
-        self.interactor.SetRenderWindow(self.window)
-        self.view_angle = 30.0
-
-    # view: the eye on +z of the centre at `distance`, the object moved by `offset` and turned by
-    # `angle` degrees about the vertical axis (the object's motion, in world coordinates)
-    def set_view(self, distance, offset=(0, 0, 0), angle=0.0):
-        self.actor.SetOrigin(*self.centre)
-        self.actor.SetOrientation(0, angle, 0)
-        self.actor.SetPosition(*offset)
-        camera = self.renderer.GetActiveCamera()
-        camera.SetFocalPoint(*self.centre)
-        camera.SetPosition(self.centre[0], self.centre[1], self.centre[2] + distance)
-        camera.SetViewUp(0, 1, 0)
-        camera.SetViewAngle(self.view_angle)
-        self.renderer.ResetCameraClippingRange(self.bounds_moved(offset))
-        # camera, frustum, viewport, the headlight and the actor's material and matrix, as the
-        # binding reads them from the renderer for every frame of a user's pipeline
-        self.binding.UpdateFrom(self.renderer, self.actor)
-
-    # The binding's clock is simulated (SetSimulatedTime): the moving protocols set the time of
-    # each frame, so that the binding measures the motion and the frame times on their schedule.
-    # Between them it stands still (the still protocols have no motion model).
-    def start_clock(self):
-        """A new schedule: at() counts from a second after the last time set (the binding must
-        never see time run back: a negative frame time is an error)."""
-        self.clock_zero = self.clock_last + 1.0
-
-    def at(self, seconds):
-        """The time of the next frame: `seconds` after start_clock()."""
-        t = self.clock_zero + seconds
-        self.clock_last = max(self.clock_last, t)
-        self.binding.SetSimulatedTime(t)
-
-    def bounds_moved(self, offset):
-        r = self.radius
-        c = self.centre + np.array(offset)
-        return [c[0] - r, c[0] + r, c[1] - r, c[1] + r, c[2] - r, c[2] + r]
-
-    def method(self, name, scale=1.0):
-        """Set method `name`. `scale` multiplies the tolerances (1: the papers' values); for
-        Cheng, which has no tolerance, it is the foveation rate K of exp(-K D)."""
-        error, motion, fovea, velocity = METHODS[name]
-        s = self.selector
-        getattr(s, 'SetErrorModelTo' + error)()
-        getattr(s, 'SetMotionModelTo' + motion)()
-        getattr(s, 'SetVelocityCriterionTo' + velocity)()
-        if fovea:
-            s.SetFoveationModeToScreen()
-            s.SetFoveationRate(scale if fovea == 'paper' else 2.0)
-            s.SetGazeDirection(0, 0, -1)
-        else:
-            s.SetFoveationModeToOff()
-        if fovea == 'paper':
-            scale = 1.0
-        s.ScaleTolerances(scale)
-        s.SetDistancePixelThreshold(scale)
-
-    def set_velocity_constant(self, name, constant):
-        """IPV's InverseVelocitySpeed or DPV's DirectVelocitySpeed (pixels per frame interval)."""
-        if name.startswith('IPV'):
-            self.selector.SetInverseVelocitySpeed(constant)
-        else:
-            self.selector.SetDirectVelocitySpeed(constant)
-
-    def lod(self):
-        """Select and patch; returns (polydata copy, triangles, select ms, patch ms)."""
-        self.patches.Update()
-        out = vtkPolyData()
-        out.ShallowCopy(self.patches.GetOutput())
-        return (out, self.patches.GetNumberOfTriangles(), self.selector.GetSelectTime() * 1e3,
-                self.patches.GetGenerateTime() * 1e3)
-
-    def render(self, data, actor=None):
-        """Luminance image of `data` (or of `actor`), and the render time in ms."""
-        if actor is not None:
-            self.renderer.RemoveActor(self.actor)
-            self.renderer.AddActor(actor)
-        else:
-            self.mapper.SetInputData(data)
-        t0 = time.perf_counter()
-        self.window.Render()
-        ms = (time.perf_counter() - t0) * 1e3
-        grab = vtkWindowToImageFilter()
-        grab.SetInput(self.window)
-        grab.ReadFrontBufferOff()
-        grab.Update()
-        img = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars())
-        img = metrics.luminance(img.reshape(self.size[1], self.size[0], -1)[..., :3])
-        if actor is not None:
-            self.renderer.RemoveActor(actor)
-            self.renderer.AddActor(self.actor)
-        return img, ms
+def set_velocity_constant(scene, name, constant):
+    """IPV's InverseVelocitySpeed or DPV's DirectVelocitySpeed (pixels per frame interval)."""
+    if name.startswith('IPV'):
+        scene.selector.SetInverseVelocitySpeed(constant)
+    else:
+        scene.selector.SetDirectVelocitySpeed(constant)
 
 
 def matched_tolerance(scene, name, target, low=1e-3, high=1e3):
@@ -369,7 +182,7 @@ def matched_tolerance(scene, name, target, low=1e-3, high=1e3):
     best = None
     for _ in range(30):
         mid = math.sqrt(low * high)
-        scene.method(name, mid)
+        set_method(scene, name, mid)
         data, tris, sel, pat = scene.lod()
         if best is None or abs(tris - target) < abs(best[1] - target):
             best = (data, tris, sel, pat, mid)
@@ -383,15 +196,10 @@ def matched_tolerance(scene, name, target, low=1e-3, high=1e3):
 
 
 def decimated(scene, target):
-    """vtkQuadricDecimation of the full mesh to `target` triangles (done once: static LOD)."""
-    full = scene.full.GetNumberOfPolys()
-    dec = vtkQuadricDecimation()
-    dec.SetInputData(scene.full)
-    dec.SetTargetReduction(max(0.0, min(0.999, 1.0 - target / full)))
-    t0 = time.perf_counter()
-    dec.Update()
-    ms = (time.perf_counter() - t0) * 1e3
-    return smooth(dec.GetOutput()), ms
+    """vtkQuadricDecimation of the full mesh to `target` triangles (done once: static LOD):
+    (mesh, milliseconds)."""
+    mesh, _, ms = plod_scene.decimated(scene.full, target)
+    return mesh, ms
 
 
 def clustered(scene, target):
@@ -424,7 +232,7 @@ def still_images(scene, distances, writer):
     for dist in distances:
         scene.set_view(dist)
         reference, full_ms = scene.render(scene.full)
-        scene.method('SRCC', 1.0)
+        set_method(scene, 'SRCC', 1.0)
         data, target, sel, pat = scene.lod()
         entries = [('SRCC', data, target, sel, pat, 1.0)]
         for name in ('SCVC', 'PSEC', 'Foveated', 'Cheng', 'Distance'):
@@ -455,7 +263,7 @@ def frontier(scene, distance, scales, writer):
     reference, full_ms = scene.render(scene.full)
     for name in ('SRCC', 'SCVC', 'PSEC'):
         for scale in scales:
-            scene.method(name, scale)
+            set_method(scene, name, scale)
             data, tris, sel, pat = scene.lod()
             img, rms = scene.render(data)
             row = dict(model=scene.name, method=name, scale=scale, triangles=tris,
@@ -483,7 +291,7 @@ def frontier(scene, distance, scales, writer):
 def against_distance(scene, distances, writer):
     rows = []
     for name in ('SRCC', 'SCVC', 'PSEC', 'Distance'):
-        scene.method(name, 1.0)
+        set_method(scene, name, 1.0)
         for dist in distances:
             scene.set_view(dist)
             data, tris, sel, pat = scene.lod()
@@ -529,17 +337,17 @@ def against_speed(scene, distance, speeds, writer, reps=5, calibration_reps=3):
     rows = []
     sweeps = {}
     for name in ('SRCC', 'TMM'):
-        scene.method(name, 1.0)
+        set_method(scene, name, 1.0)
         sweeps[name] = ([speed_point(scene, distance, v, reps) for v in speeds], float('nan'))
     moving_points = [i for i, v in enumerate(speeds) if v > 0]
     target = float(np.mean([sweeps['TMM'][0][i][2] for i in moving_points]))
     for name in VELOCITY_METHODS:
-        scene.method(name, 1.0)
+        set_method(scene, name, 1.0)
         lo, hi = 0.05, 2000.0
         best = None
         for _ in range(8):
             mid = math.sqrt(lo * hi)
-            scene.set_velocity_constant(name, mid)
+            set_velocity_constant(scene, name, mid)
             ms = float(np.mean([speed_point(scene, distance, speeds[i], calibration_reps)[2]
                                 for i in moving_points]))
             if best is None or abs(ms - target) < abs(best[0] - target):
@@ -548,7 +356,7 @@ def against_speed(scene, distance, speeds, writer, reps=5, calibration_reps=3):
                 hi = mid
             else:
                 lo = mid
-        scene.set_velocity_constant(name, best[1])
+        set_velocity_constant(scene, name, best[1])
         sweeps[name] = ([speed_point(scene, distance, v, reps) for v in speeds], best[1])
     # the object's speed on the screen is the motion's, whatever the method: as TMM's selector
     # measured it (the binding gives a selector without a motion model no motion)
@@ -585,9 +393,9 @@ def moving(scene, name, kind, dt, distance, instants, references, scale=1.0, spe
     frame time dt), as every later frame sees the motion over the previous frame's time. Mean
     frame time and triangles are over every frame computed, the pre-roll's included."""
     if lod_actor is None:
-        scene.method(name, scale)
+        set_method(scene, name, scale)
         if speed is not None:
-            scene.set_velocity_constant(name, speed)
+            set_velocity_constant(scene, name, speed)
         scene.selector.SetFrameInterval(dt)
     horizon = instants * dt
     frames = []  # (completion time, image, triangles, processing ms)
@@ -700,9 +508,9 @@ def moving_at_budget(scene, name, kind, dt, distance, instants, references, budg
     tolerances. Returns (mean PSNR, standard deviation, mean triangles drawn, mean select + patch
     + render ms, mean triangles counted: GetNumberOfBudgetTriangles, the budget's unit)."""
     s = scene.selector
-    scene.method(name, BUDGET_FLOOR if budget else 1.0)
+    set_method(scene, name, BUDGET_FLOOR if budget else 1.0)
     if speed is not None:
-        scene.set_velocity_constant(name, speed)
+        set_velocity_constant(scene, name, speed)
     s.SetFrameInterval(dt)
     s.SetTriangleBudget(budget)
     offset, angle, dist = movement(scene, kind, -2 * dt, distance)
@@ -1036,7 +844,7 @@ def main():
 
     def add(name, make, *options, **keywords):
         if wanted is None or name in wanted:
-            scenes.append(Scene(name, make(), *options, **keywords))
+            scenes.append(Scene(make(), name, *options, **keywords))
     if args.quick:
         size = (240, 180)
         add('quick', lambda: generated_model(60), size, level=6)

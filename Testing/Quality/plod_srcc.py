@@ -10,7 +10,7 @@ of SRCC's terms.
 
 (about 9 minutes on 2 shared cores for the defaults; docs/results/srcc_examination.md).
 
-Protocol (plod_faithful.py's Scene: 640x480, view angle 30 degrees, headlight, the grey actor
+Protocol (plod_faithful.py's scene, a plod_scene.Scene: 640x480, view angle 30 degrees, headlight, the grey actor
 (colour 0.8, diffuse 0.9, specular 0.3, power 20) on a pure blue background, the selector fed
 through vtkPerceptualLODRenderBinding, so it sees the actor's material; the reference is the
 full-resolution mesh, smooth-shaded):
@@ -62,6 +62,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import plod_faithful as pf  # noqa: E402
 import plod_metrics as metrics  # noqa: E402
+import plod_scene  # noqa: E402
 
 FLOOR = 1.0 / 16
 SCALES = (1, 2, 4)
@@ -70,7 +71,7 @@ THIN_RES = 300
 BG_LUM = float(metrics.luminance(np.array([[[0, 0, 255]]]))[0, 0])
 PPD = metrics.pixels_per_degree(30.0, pf.SIZE[1])
 SPECULAR = dict(diffuse=0.6, specular=0.9, power=60.0)
-GREY = dict(diffuse=0.9, specular=0.3, power=20.0)
+GREY = plod_scene.GREY  # the harness's material
 HUGE = 1e6
 
 # metric -> True when higher is better
@@ -89,10 +90,7 @@ FIELDS = ['model', 'distance', 'azimuth', 'scale', 'target', 'variant', 'mode', 
 
 def set_material(scene, m):
     for actor in (scene.lod_actor, scene.ref_actor):
-        p = actor.GetProperty()
-        p.SetDiffuse(m['diffuse'])
-        p.SetSpecular(m['specular'])
-        p.SetSpecularPower(m['power'])
+        plod_scene.set_material(actor, m['diffuse'], m['specular'], m['power'])
 
 
 def render(scene, mode, ts, tb, topology, budget):
@@ -105,12 +103,7 @@ def render(scene, mode, ts, tb, topology, budget):
     s.SetTopologyTolerance(topology)
     s.SetExactTriangleBudget(budget > 0)
     s.SetTriangleBudget(budget)
-    scene.renderer.RemoveAllViewProps()
-    scene.renderer.AddActor(scene.lod_actor)
-    scene.binding.EnabledOn()
-    img = scene.grab()
-    scene.binding.EnabledOff()
-    return img, scene.patches.GetNumberOfTriangles()
+    return scene.render_cut()
 
 
 class Reference:
@@ -147,7 +140,7 @@ def score(ref, img):
 
 def measure(name, model, writer, distances, azimuths, scales):
     rows = []
-    scene = pf.Scene(model)
+    scene = pf.make_scene(model)
     s = scene.selector
     topo_default = s.GetTopologyTolerance()
     print('%s: %d triangles, octree built in %.1f s, default T_s %g T_b %g topology %g' % (
@@ -156,7 +149,7 @@ def measure(name, model, writer, distances, azimuths, scales):
 
     for dname in distances:
         for az in azimuths:
-            scene.view(az, pf.DISTANCES[dname])
+            scene.reset_view(az, pf.DISTANCES[dname])
             set_material(scene, GREY)
             ref = Reference(scene.render_actor(scene.ref_actor))
             targets = []

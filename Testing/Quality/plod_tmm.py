@@ -8,9 +8,10 @@ and at the time-matched calibration of TMM §5.2, with one switch at a time.
       [--models bunny,generated,lucy] [--motions T,R] [--speeds 0.5,1,2] [--dts 30,60] \\
       [--instants 12] [--calib-steps 6] [--quick]
 
-Builds on plod_measure.py (imported as pm): its Scene (640x480, view angle 30 degrees, one
+Builds on plod_scene.py's Scene (640x480, view angle 30 degrees, one
 headlight, grey material colour 0.8 / diffuse 0.9 / specular 0.3 / power 20, the selector fed
-through vtkPerceptualLODRenderBinding on a simulated clock: start_clock / at), its methods
+through vtkPerceptualLODRenderBinding on a simulated clock: start_clock / at) and on
+plod_measure.py (imported as pm): its methods
 (pm.METHODS: TMM = SRCC + MicroMotion; IPV, DPV = velocity alone, TMM §5.3's form; IPV-SRCC,
 DPV-SRCC = SRCC's tolerances times the speed factor), its movements (pm.movement: T, a sine
 translation of 0.6 radii amplitude and 2 s period; R, a rotation of 90 degrees per second about
@@ -62,6 +63,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import plod_measure as pm  # noqa: E402
 import plod_metrics as metrics  # noqa: E402
+import plod_scene  # noqa: E402
 
 FLOOR = pm.BUDGET_FLOOR  # 1/16: plod_budget.py's FLOOR
 MODES = ('TMM', 'SRCC', 'IPV', 'DPV', 'IPV-SRCC', 'DPV-SRCC')
@@ -71,7 +73,7 @@ VELOCITY = pm.VELOCITY_METHODS  # IPV, DPV, IPV-SRCC, DPV-SRCC
 PAPER = ('TMM', 'IPV', 'DPV')       # TMM Table 2's three, velocity alone (TMM §5.3's form)
 SCALED = ('TMM', 'IPV-SRCC', 'DPV-SRCC')
 FRACTIONS = (1.0, 0.5)
-GEN_RES = 400  # pm.generated_model(400): a closed displaced sphere of 318,400 triangles
+GEN_RES = 400  # plod_scene.generated_model(400): a closed displaced sphere of 318,400 triangles
 
 FIELDS = ['model', 'motion', 'speed', 'dt', 'protocol', 'fraction', 'budget', 'mode', 'constant',
           'mean_psnr', 'std_psnr', 'mean_ssim', 'mean_triangles', 'mean_frame_ms', 'fill_mean',
@@ -144,9 +146,9 @@ def run_display_rate(scene, name, move, dt, distance, instants, refs, budget, sp
     s = scene.selector
     if name == 'SIZE':  # velocity alone with no speed factor: IPV's order, constant 1e9
         name, speed = 'IPV', 1e9
-    scene.method(name, FLOOR if budget else 1.0)
+    pm.set_method(scene, name, FLOOR if budget else 1.0)
     if speed is not None:
-        scene.set_velocity_constant(name, speed)
+        pm.set_velocity_constant(scene, name, speed)
     s.SetFrameInterval(dt)
     s.SetExactTriangleBudget(budget > 0)
     s.SetTriangleBudget(budget)
@@ -499,8 +501,8 @@ def main():
     size = (640, 480)
     scenes = []
     if args.quick:
-        scenes.append(('generated-small', lambda: pm.Scene('generated-small',
-                                                           pm.generated_model(80), size, level=6)))
+        scenes.append(('generated-small', lambda: plod_scene.Scene(
+            plod_scene.generated_model(80), 'generated-small', size, level=6)))
         motions, speeds, dts, instants, steps = ['T'], [1.0], [1 / 30], 4, 3
     else:
         for key in args.models.split(','):
@@ -509,11 +511,11 @@ def main():
                 if not os.path.exists(path):
                     print('%s skipped: %s not found' % (key, path))
                     continue
-                scenes.append((key, (lambda key, path: lambda: pm.Scene(
-                    key, pm.read_ply(path), size, level=8))(key, path)))
+                scenes.append((key, (lambda key, path: lambda: plod_scene.Scene(
+                    plod_scene.read_ply(path), key, size, level=8))(key, path)))
             elif key == 'generated':
-                scenes.append((key, lambda: pm.Scene('generated', pm.generated_model(GEN_RES),
-                                                     size, level=8)))
+                scenes.append((key, lambda: plod_scene.Scene(
+                    plod_scene.generated_model(GEN_RES), 'generated', size, level=8)))
     os.makedirs(args.out, exist_ok=True)
     if args.repeat:
         repeat(scenes[0], motions[0], speeds[0], dts[0], instants, args.preroll, args.repeat,

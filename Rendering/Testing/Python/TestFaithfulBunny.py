@@ -26,14 +26,14 @@ AZIMUTHS = (0, 90, 180, 270)
 class FaithfulBunny(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.scene = faithful.Scene(faithful.read_ply(BUNNY))
+        cls.scene = faithful.make_scene(faithful.read_ply(BUNNY))
 
     def margins(self, dolly):
         """LOD − QD per azimuth at `dolly`, and the hole pixels of each LOD view."""
         s = self.scene
         margins, holes = [], []
         for az in AZIMUTHS:
-            s.view(az, dolly)
+            s.reset_view(az, dolly)
             ref = s.render_actor(s.ref_actor)
             inner = metrics.erode(~faithful.is_background(ref), 3)
             img, tris = s.render_lod(1.0)
