@@ -75,9 +75,11 @@
  * incomplete in each process's piece, so its errors, cone and vertex say nothing about the
  * whole surface. A leaf coarser than it is opened.
  *
- * One decision per cell: the tests above are one function (Judge in the .cxx) that both walks
- * below call, so that they cannot drift apart. It answers hide, draw (with the reason) or
- * refine (with what the children are tested for) and, for the budget walk, the priority.
+ * One decision per cell: the tests above are one function (Judge in the .cxx) that every walk
+ * below calls, so that they cannot drift apart. It answers hide, draw (with the reason) or
+ * refine (with what the children are tested for) and, for the budget walk, the priority. The
+ * error model is chosen once per frame (SRCC, the baselines, velocity alone or Cheng's test)
+ * and each walk is compiled for each, so a walk tests only what its model needs.
  *
  * Triangle budget (SelectionInput::TriangleBudget > 0): priority-queue refinement from the root
  * (Luebke & Erikson 1997's budget-based simplification; Hoppe 1997 and Duchaineau et al. 1997,
