@@ -74,11 +74,21 @@ SPECULAR = dict(diffuse=0.6, specular=0.9, power=60.0)
 GREY = plod_scene.GREY  # the harness's material
 HUGE = 1e6
 
+
+def _preset_ratio():
+    """T_b / T_s of the selector's defaults (the papers' preset: one home, the kernel's)."""
+    from perceptual_lod import vtkPerceptualLODSelector
+    s = vtkPerceptualLODSelector()
+    return s.GetBrightnessTolerance() / s.GetContourTolerance()
+
+
+PRESET = _preset_ratio()
+
 # metric -> True when higher is better
 METRICS = (('psnr', True), ('ssim', True), ('pm_err', False), ('outline_rel', False))
 # ablation variants of SRCC: (name, T_b / T_s, topology tolerance or None for the default)
 ABLATION = (('srcc-tb0.25', 0.25, None), ('srcc-tb1', 1.0, None), ('srcc-tb2', 2.0, None),
-            ('srcc-tb16', 16.0, None), ('srcc-tbinf', None, None), ('srcc-topo-off', 4.0, HUGE))
+            ('srcc-tb16', 16.0, None), ('srcc-tbinf', None, None), ('srcc-topo-off', PRESET, HUGE))
 MIN_FILL = 0.95  # an ablation cell counts only when the variant drew at least this share
 MODES = {'srcc': 'SRCC', 'scvc': 'SCVC', 'psec': 'PSEC'}
 
@@ -155,22 +165,22 @@ def measure(name, model, writer, distances, azimuths, scales):
             targets = []
             for scale in scales:
                 t0 = time.perf_counter()
-                img, tris = render(scene, 'srcc', scale, 4 * scale, topo_default, 0)
+                img, tris = render(scene, 'srcc', scale, PRESET * scale, topo_default, 0)
                 targets.append((scale, tris))
                 rows.append(dict(variant='srcc-tol', mode='SRCC', material='grey', ts=scale,
-                                 tb=4 * scale, topology=topo_default, budget=0, scale=scale,
+                                 tb=PRESET * scale, topology=topo_default, budget=0, scale=scale,
                                  target=tris, triangles=tris, fill=1.0, binding=0,
                                  seconds=time.perf_counter() - t0, **score(ref, img)))
                 rows[-1].update(model=name, distance=dname, azimuth=az)
                 writer.writerow(rows[-1])
-            jobs = [(v, v.upper(), 4.0, topo_default) for v in ('srcc', 'scvc', 'psec')]
+            jobs = [(v, v.upper(), PRESET, topo_default) for v in ('srcc', 'scvc', 'psec')]
             jobs += [(v, 'SRCC', ratio, topo if topo is not None else topo_default)
                      for v, ratio, topo in ABLATION]
             for material in ('grey', 'specular'):
                 if material == 'specular':
                     set_material(scene, SPECULAR)
                     ref = Reference(scene.render_actor(scene.ref_actor))
-                    jobs = [(v + '-spec', v.upper(), 4.0, topo_default)
+                    jobs = [(v + '-spec', v.upper(), PRESET, topo_default)
                             for v in ('srcc', 'scvc', 'psec')]
                 for scale, target in targets:
                     if target <= 0:
