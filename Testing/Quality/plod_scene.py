@@ -31,8 +31,9 @@ from vtkmodules.vtkRenderingCore import (vtkActor, vtkLight, vtkPolyDataMapper, 
 
 import plod_metrics as metrics
 from perceptual_lod import (vtkMultiscaleOctreeBuilder, vtkMultiscaleOctreeCutter,
-                            vtkMultiscalePatchGenerator, vtkPerceptualLODRenderBinding,
-                            vtkPerceptualLODSelector, vtkPLYFileCheck)
+                            vtkMultiscalePatchGenerator, vtkPerceptualLODMapper,
+                            vtkPerceptualLODRenderBinding, vtkPerceptualLODSelector,
+                            vtkPLYFileCheck)
 
 GREY = dict(color=(0.8, 0.8, 0.8), diffuse=0.9, specular=0.3, power=20)
 BLUE = (0.0, 0.0, 1.0)  # a background no lit grey pixel can have (plod_faithful's holes)
@@ -138,9 +139,11 @@ class Scene:
     'ScannerPosition' array (its reference is then the finest cut of its own octree);
     `background`: the renderer's background colour (None: VTK's black).
 
-    Three actors: `lod_actor` draws the live pipeline's patches (render_cut, render_lod),
-    `ref_actor` the reference, and `actor` whatever polydata render() is given (the moving
-    protocols place it with set_view's offset and angle, and the binding reads its matrix).
+    Four actors: `lod_actor` draws the live pipeline's patches (render_cut, render_lod: the CPU
+    path), `gpu_actor` the same selection through vtkPerceptualLODMapper (render_lod_gpu: the GPU
+    path, made on first use), `ref_actor` the reference, and `actor` whatever polydata render()
+    is given (the moving protocols place it with set_view's offset and angle, and the binding
+    reads its matrix).
     """
 
     def __init__(self, model, name='', size=(640, 480), level=-1, rule=None, cloud=False,
@@ -181,6 +184,8 @@ class Scene:
         self.ref_actor = grey_actor(self.ref_mapper)
         self.mapper = vtkPolyDataMapper()
         self.actor = grey_actor(self.mapper)
+        self.gpu_mapper = None
+        self.gpu_actor = None
 
         self.renderer = vtkRenderer()
         if background is not None:
@@ -310,6 +315,31 @@ class Scene:
         """render_cut with the tolerances at `scale` times their defaults."""
         self.selector.ScaleTolerances(scale)
         return self.render_cut()
+
+    def render_lod_gpu(self, scale=1.0):
+        """render_lod through the GPU path (vtkPerceptualLODMapper fed by the same selector):
+        (RGB image, triangles the mapper drew). Raises RuntimeError, naming the missing feature,
+        when the context cannot run it."""
+        if self.gpu_actor is None:
+            self.gpu_mapper = vtkPerceptualLODMapper()
+            self.gpu_mapper.SetOctreeConnection(self.selector.GetOutputPort())
+            self.gpu_actor = grey_actor(self.gpu_mapper)
+        set_material(self.gpu_actor, self.lod_actor.GetProperty().GetDiffuse(),
+                     self.lod_actor.GetProperty().GetSpecular(),
+                     self.lod_actor.GetProperty().GetSpecularPower(),
+                     self.lod_actor.GetProperty().GetColor())
+        self.selector.ScaleTolerances(scale)
+        self.renderer.RemoveAllViewProps()
+        self.renderer.AddActor(self.gpu_actor)
+        self.binding.SetProp3D(self.gpu_actor)
+        self.binding.EnabledOn()
+        img = self.grab()
+        self.binding.EnabledOff()
+        self.binding.SetProp3D(self.lod_actor)
+        if not self.gpu_mapper.IsSupported(self.window):
+            raise RuntimeError('the GPU path cannot run here: ' +
+                               self.gpu_mapper.GetUnsupportedReason())
+        return img, self.gpu_mapper.GetNumberOfDrawnTriangles()
 
     def lod(self):
         """Select and patch; returns (polydata copy, triangles, select ms, patch ms)."""

@@ -5,7 +5,9 @@ views). It asserts what docs/results/faithful.md reports, with margins for the f
 - no background pixel inside the reference's silhouette (eroded by 3 px) at default tolerances;
 - at equal triangles, the LOD is not below a one-off vtkQuadricDecimation at mid distance
   (median; measured +0.7 dB over 8 azimuths) and at least 3 dB above it close up (+9.7 dB);
-- the finest cut is the input: at least 60 dB against it (measured 87 dB and more)."""
+- the finest cut is the input: at least 60 dB against it (measured 87 dB and more);
+- the GPU path (vtkPerceptualLODMapper fed by the same selector) meets the same bounds at mid
+  distance and close up, against the same reference and QD at its own triangle count."""
 import os
 import sys
 import unittest
@@ -28,15 +30,16 @@ class FaithfulBunny(unittest.TestCase):
     def setUpClass(cls):
         cls.scene = faithful.make_scene(faithful.read_ply(BUNNY))
 
-    def margins(self, dolly):
-        """LOD − QD per azimuth at `dolly`, and the hole pixels of each LOD view."""
+    def margins(self, dolly, gpu=False):
+        """LOD − QD per azimuth at `dolly`, and the hole pixels of each LOD view; the LOD drawn
+        through the CPU path, or through the GPU path (vtkPerceptualLODMapper) with `gpu`."""
         s = self.scene
         margins, holes = [], []
         for az in AZIMUTHS:
             s.reset_view(az, dolly)
             ref = s.render_actor(s.ref_actor)
             inner = metrics.erode(~faithful.is_background(ref), 3)
-            img, tris = s.render_lod(1.0)
+            img, tris = s.render_lod_gpu(1.0) if gpu else s.render_lod(1.0)
             self.assertGreater(tris, 0)
             holes.append(faithful.hole_split(inner, img)[0])
             qd, _ = faithful.decimated(s.full, tris)
@@ -44,7 +47,8 @@ class FaithfulBunny(unittest.TestCase):
             lum = faithful.lum
             margins.append(faithful.metrics.psnr(lum(ref), lum(img)) -
                            faithful.metrics.psnr(lum(ref), lum(qimg)))
-        print(f'dolly {dolly}: LOD - QD {np.round(margins, 2)} dB, holes {holes}')
+        print(f'dolly {dolly}{" GPU path" if gpu else ""}: LOD - QD {np.round(margins, 2)} dB, '
+              f'holes {holes}')
         return margins, holes
 
     def test_mid_distance(self):
@@ -54,6 +58,17 @@ class FaithfulBunny(unittest.TestCase):
 
     def test_close_up(self):
         margins, holes = self.margins(faithful.DISTANCES['close'])
+        self.assertEqual(holes, [0] * len(AZIMUTHS))
+        self.assertGreaterEqual(float(np.median(margins)), 3.0)
+
+    def test_gpu_path_mid_distance(self):
+        # the GPU path (the actor's default on a hardware GPU) is held to the same bounds
+        margins, holes = self.margins(faithful.DISTANCES['mid'], gpu=True)
+        self.assertEqual(holes, [0] * len(AZIMUTHS))
+        self.assertGreaterEqual(float(np.median(margins)), 0.0)
+
+    def test_gpu_path_close_up(self):
+        margins, holes = self.margins(faithful.DISTANCES['close'], gpu=True)
         self.assertEqual(holes, [0] * len(AZIMUTHS))
         self.assertGreaterEqual(float(np.median(margins)), 3.0)
 
