@@ -225,7 +225,8 @@ int vtkMultiscalePatchGenerator::RequestData(
   timer->StartTimer();
   std::string why;
   plod::OctreeView v;
-  if (!input->GetCheckedView(v, nullptr, &why))
+  vtkMTimeType checked = 0; // changes whenever the octree's arrays do
+  if (!input->GetCheckedView(v, &checked, &why))
   {
     vtkErrorMacro("The input octree is invalid (" << why << "): empty output.");
     return 1;
@@ -237,7 +238,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   const bool hasMask =
     mask && mask->GetNumberOfComponents() == 1 && mask->GetNumberOfTuples() == v.NumberOfNodes;
   if (!plod::GeneratePatches(v, state, hasMask ? mask->GetPointer(0) : nullptr, r, &why,
-        &this->Internal->Workspace, this->MakeOptions(input)))
+        &this->Internal->Workspace, this->MakeOptions(input, checked)))
   {
     vtkErrorMacro("Invalid cut: " << why << ". Empty output.");
     return 1;
@@ -286,9 +287,12 @@ const uint8_t* vtkMultiscalePatchGenerator::TakeCut(
 }
 
 //------------------------------------------------------------------------------
-plod::PatchOptions vtkMultiscalePatchGenerator::MakeOptions(vtkMultiscaleOctree* input)
+plod::PatchOptions vtkMultiscalePatchGenerator::MakeOptions(
+  vtkMultiscaleOctree* input, vtkMTimeType checked)
 {
   plod::PatchOptions options;
+  // each corner starts from where its walk ended last frame, while the octree is the same
+  options.OctreeStamp = checked;
   options.Folds = static_cast<plod::FoldHandling>(this->FoldHandling);
   // back faces culled per triangle when the selector hid back-facing cells (CutView)
   if (this->CullBackFaces && input->GetFieldData())

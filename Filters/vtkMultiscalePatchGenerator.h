@@ -55,7 +55,15 @@
  * empty output.
  *
  * The filter keeps its scratch buffers between executions, so a frame allocates nothing new;
- * it re-executes only when its input or a parameter changes.
+ * it re-executes only when its input or a parameter changes. It also remembers, for every
+ * surface point, the cluster its corner walk ended at (4 bytes a point, kept while the octree's
+ * arrays are the same): the next execution starts each corner there when that cluster is still
+ * a cut cluster, instead of walking from the point's leaf, so a cut that moved little costs
+ * little more than its triangles (docs/benchmarks.md, "Multiscale patches").
+ *
+ * @warning The remembered walks make a corner's representative depend on nothing but the
+ * octree and the current cut (the same output as walking from the leaves); an octree whose
+ * arrays are edited in place without Modified() is not supported, as everywhere in VTK.
  *
  * @sa vtkMultiscaleOctree vtkMultiscaleOctreeCutter vtkPerceptualLODSelector
  */
@@ -186,8 +194,9 @@ protected:
   /// The steps of RequestData.
   /// The input's cut, or full resolution (with a warning for a CutState of the wrong shape).
   const uint8_t* TakeCut(vtkMultiscaleOctree* input, const plod::OctreeView& v);
-  /// The kernel's options: fold rule, back faces as the selector asked, threads.
-  plod::PatchOptions MakeOptions(vtkMultiscaleOctree* input);
+  /// The kernel's options: fold rule, back faces as the selector asked, threads, and the
+  /// octree's checked stamp `checked` (the corner walks remembered between frames).
+  plod::PatchOptions MakeOptions(vtkMultiscaleOctree* input, vtkMTimeType checked);
   /// The Get...() figures from the kernel's result and the time taken.
   void RecordFigures(const plod::PatchResult& r, double seconds);
   ///@}

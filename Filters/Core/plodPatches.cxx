@@ -63,13 +63,15 @@ using Decision = PatchDecision;
 class TriangleJudge
 {
 public:
+  /// `remembered`: PatchWorkspace::CutCluster for this octree, or null.
   TriangleJudge(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
-    const uint8_t* reached, const PatchOptions& options)
+    const uint8_t* reached, const PatchOptions& options, int32_t* remembered = nullptr)
     : V(v)
     , State(state)
     , CullMask(cullMask)
     , Reached(reached)
     , Options(options)
+    , Remembered(remembered)
   {
   }
 
@@ -167,7 +169,7 @@ private:
       Fail(error, "a triangle refers to point " + std::to_string(p) + ", outside the surface");
       return Invalid;
     }
-    int64_t c = v.PointCluster[p];
+    int64_t c = this->RememberedCutCluster(p);
     int64_t n = c >= 0 && c < v.NumberOfClusters ? v.ClusterNode[c] : -1;
     while (n >= 0 && n < v.NumberOfNodes && this->State[n] == NotInCut)
     {
@@ -190,6 +192,7 @@ private:
       Fail(error, "node " + std::to_string(n) + " is in the cut below another cut node");
       return Invalid;
     }
+    this->Remember(p, c);
     const uint8_t s = this->State[n];
     drawn = IsDrawnState(s);
     if (s == CutHidden)
@@ -200,12 +203,55 @@ private:
     return s == CutOpen ? -1 - int64_t(p) : c;
   }
 
+  /**
+   * Where point p's walk starts: the cluster its last walk ended at, when that cluster's node
+   * is a cut node the walk from the root reached (then it is p's representative: a valid cut has
+   * one node on each path from the root, and the remembered cluster is an ancestor-or-self of p's
+   * leaf cluster); else p's leaf cluster. Ranges decided in parallel share points, so the
+   * remembered clusters are read and written atomically (relaxed: any value one of them wrote is
+   * right).
+   */
+  int64_t RememberedCutCluster(int32_t p) const
+  {
+    const OctreeView& v = this->V;
+    if (this->Remembered)
+    {
+      const int64_t c = __atomic_load_n(&this->Remembered[p], __ATOMIC_RELAXED);
+      const int64_t n = c >= 0 && c < v.NumberOfClusters ? v.ClusterNode[c] : -1;
+      if (n >= 0 && n < v.NumberOfNodes && this->Reached[n]) // (reached: a cut node)
+        return c;
+    }
+    return v.PointCluster[p];
+  }
+
+  void Remember(int32_t p, int64_t c) const
+  {
+    if (this->Remembered && __atomic_load_n(&this->Remembered[p], __ATOMIC_RELAXED) != c)
+      __atomic_store_n(&this->Remembered[p], static_cast<int32_t>(c), __ATOMIC_RELAXED);
+  }
+
   const OctreeView& V;
   const uint8_t* State;
   const uint8_t* CullMask;
   const uint8_t* Reached;
   const PatchOptions& Options;
+  int32_t* Remembered;
 };
+
+/// The workspace's remembered corner walks for `options.OctreeStamp` (made from the points'
+/// leaf clusters when the stamp or the octree's size changed), or null when not asked for.
+int32_t* RememberedWalks(const OctreeView& v, const PatchOptions& options, PatchWorkspace& ws)
+{
+  if (options.OctreeStamp == 0 || !v.PointCluster)
+    return nullptr;
+  if (ws.CutClusterStamp != options.OctreeStamp ||
+    static_cast<int64_t>(ws.CutCluster.size()) != v.NumberOfPoints)
+  {
+    ws.CutCluster.assign(v.PointCluster, v.PointCluster + v.NumberOfPoints);
+    ws.CutClusterStamp = options.OctreeStamp;
+  }
+  return ws.CutCluster.data();
+}
 
 /// Walks the nodes above the cut from the root: marks the cut nodes reached, lists the nodes
 /// whose owned triangles are drawn (refined nodes and opened leaves). False (and `error`) on an
@@ -492,7 +538,8 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   // (every cut node is marked before the first triangle looks for its representatives)
   bool ok = WalkAboveTheCut(v, state, ws, out, error);
   // 2. each owned triangle decided (in parallel when asked), 3. the drawn ones emitted in order
-  const TriangleJudge judge(v, state, cullMask, ws.Reached.data(), options);
+  const TriangleJudge judge(
+    v, state, cullMask, ws.Reached.data(), options, RememberedWalks(v, options, ws));
   PatchEmitter emit(v, ws, out);
   if (ok && options.For)
   {

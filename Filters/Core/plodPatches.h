@@ -132,6 +132,15 @@ struct PatchOptions
   double Eye[3] = { 0, 0, 0 }; // octree-local coordinates (relative to the origin)
   bool Parallel = false;
   double ProjectionDirection[3] = { 0, 0, -1 }; // parallel projection
+  /**
+   * The octree's identity for the corner walks the workspace remembers (PatchWorkspace::
+   * CutCluster): a value that changes whenever the octree's arrays do (the VTK layer passes
+   * vtkMultiscaleOctree's checked stamp). Non-zero, each corner first tries the cluster its walk
+   * ended at in the last call with the same value, and walks from its leaf only when that
+   * cluster's node is no longer a reached cut node. 0 (default): every corner walks from its
+   * leaf. The output is the same either way for a valid cut.
+   */
+  uint64_t OctreeStamp = 0;
 };
 
 /// What one owned triangle becomes, decided from the cut alone (GeneratePatches' phase that may
@@ -167,6 +176,10 @@ struct PatchWorkspace
   std::vector<std::vector<PatchDecision>> Decisions;
   std::vector<std::string> RangeErrors;
   std::vector<int64_t> RangeDrawn; // CountDrawnTriangles: each range's count
+  // PatchOptions::OctreeStamp: per surface point, the cluster its last walk ended at (a cut
+  // cluster then), for the octree of that stamp
+  std::vector<int32_t> CutCluster;
+  uint64_t CutClusterStamp = 0;
 };
 
 /**

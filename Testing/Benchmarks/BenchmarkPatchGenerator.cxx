@@ -2,6 +2,9 @@
 // Output triangles per second of vtkMultiscalePatchGenerator (one thread, and every core) for cuts
 // of 10k to 1M triangles on a generated model of 1,005,360 triangles, beside vtkQuadricClustering
 // making a mesh of about the same triangle count from the full input in the same run.
+// BM_PatchesOrbit: the patches of a selector's cuts as the eye orbits the model (far or mid,
+// 2 or 45 degrees a frame), on every core: what a moving camera costs, where the corner walks
+// the generator remembers from frame to frame help (small steps) or not (large ones).
 //
 //   build/bin/BenchmarkPatchGenerator --benchmark_repetitions=5
 //     --benchmark_report_aggregates_only=true
@@ -11,6 +14,7 @@
 #include "vtkMultiscaleOctreeBuilder.h"
 #include "vtkMultiscaleOctreeCutter.h"
 #include "vtkMultiscalePatchGenerator.h"
+#include "vtkPerceptualLODSelector.h"
 #include "vtkQuadricClustering.h"
 #include "vtkSMPTools.h"
 
@@ -97,6 +101,36 @@ void BM_PatchesAllCores(benchmark::State& state)
   RunPatches(state, 0);
 }
 
+/// The patches of the selector's cut (SRCC, default tolerances, one headlight, 1920 x 1080)
+/// as the eye orbits the model at distance range(0) / 10 (3.5: mid, the model about the view's
+/// height; 14: far), range(1) degrees a frame, every core. Timed: the patch generator alone.
+void BM_PatchesOrbit(benchmark::State& state)
+{
+  Scene& s = GetScene();
+  const double distance = state.range(0) / 10.0;
+  const double step = state.range(1) * 3.14159265358979323846 / 180.0;
+  vtkNew<vtkPerceptualLODSelector> selector;
+  selector->SetInputData(s.Octree);
+  selector->SetViewportSize(1920, 1080);
+  selector->AddLight(false, 0, 0, 1, 1, 0);
+  vtkNew<vtkMultiscalePatchGenerator> gen;
+  gen->SetInputConnection(selector->GetOutputPort());
+  int frame = 0;
+  for (auto _ : state)
+  {
+    const double a = step * frame++;
+    const double eye[3] = { distance * std::sin(a), 0.2 * distance, distance * std::cos(a) };
+    selector->SetEyePosition(eye[0], eye[1], eye[2]);
+    selector->SetLight(0, false, eye[0], eye[1], eye[2], 1, 0);
+    gen->Update();
+    state.SetIterationTime(gen->GetGenerateTime());
+  }
+  const double tris = static_cast<double>(gen->GetNumberOfTriangles());
+  state.counters["triangles"] = tris;
+  state.counters["Mtri/s"] =
+    benchmark::Counter(tris * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 /// vtkQuadricClustering with the divisions that give about the cut's triangle count.
 void BM_QuadricClusteringSameCount(benchmark::State& state)
 {
@@ -133,6 +167,10 @@ void BM_QuadricClusteringSameCount(benchmark::State& state)
 
 BENCHMARK(BM_Patches)->DenseRange(5, 9)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PatchesAllCores)->DenseRange(5, 9)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PatchesOrbit)
+  ->ArgsProduct({ { 140, 35 }, { 2, 45 } })
+  ->UseManualTime()
+  ->Unit(benchmark::kMillisecond);
 // Case 9 (about 1.2M triangles) is left out: vtkQuadricClustering needs about 600^3 bins for it
 // and throws std::bad_alloc on this 24 GB machine (measured).
 BENCHMARK(BM_QuadricClusteringSameCount)

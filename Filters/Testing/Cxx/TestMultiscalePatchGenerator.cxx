@@ -1275,6 +1275,169 @@ TEST(MultiscalePatchGenerator, ParallelRangesGiveTheSerialOutput)
   EXPECT_GT(compared, 100);
 }
 
+// Remembered corner walks (PatchOptions::OctreeStamp): over a sequence of cuts (random ones, and
+// each one's neighbour: some cut cells refined or coarsened, as a moving camera changes a cut),
+// serial and in ranges, the output is the one of walks from the leaves; an invalid cut after
+// valid ones gives the same first error; a new octree with the same points under a new stamp
+// is not read with the old one's clusters.
+TEST(MultiscalePatchGenerator, RememberedCornerWalksGiveTheFreshOutput)
+{
+  plod::ParallelFor backwards = [](int64_t n, int64_t grain,
+                                  const std::function<void(int64_t, int64_t)>& body) {
+    grain = std::max<int64_t>(1, grain);
+    for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
+      body(b, std::min(n, b + grain));
+  };
+  // `cut` with about a fifth of its cut cells refined one level (a leaf opened) and a fifth of
+  // the refined parents of cut cells coarsened: another valid cut
+  auto neighbour = [](const plod::OctreeView& v, std::vector<uint8_t> cut, std::mt19937& rng) {
+    for (int64_t n = v.NumberOfNodes - 1; n > 0; --n)
+    {
+      const int32_t p = v.Parent[n];
+      if (cut[n] != plod::NotInCut && cut[n] != plod::CutOpen && rng() % 5 == 0)
+      {
+        bool all = true; // coarsen p when all its children are kept cells
+        for (int k = 0; k < __builtin_popcount(v.ChildMask[p]); ++k)
+          all = all && cut[v.FirstChild[p] + k] != plod::NotInCut &&
+            cut[v.FirstChild[p] + k] != plod::CutOpen;
+        if (all)
+        {
+          for (int k = 0; k < __builtin_popcount(v.ChildMask[p]); ++k)
+            cut[v.FirstChild[p] + k] = plod::NotInCut;
+          cut[p] = plod::CutDrawn;
+        }
+      }
+    }
+    for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+    {
+      if ((cut[n] == plod::CutDrawn || cut[n] == plod::CutHidden) && rng() % 5 == 0)
+      {
+        if (v.IsLeaf(n))
+        {
+          cut[n] = plod::CutOpen;
+          continue;
+        }
+        cut[n] = plod::NotInCut;
+        for (int k = 0; k < __builtin_popcount(v.ChildMask[n]); ++k)
+          cut[v.FirstChild[n] + k] = plod::CutDrawn;
+      }
+    }
+    return cut;
+  };
+  auto same = [](const plod::PatchResult& a, const plod::PatchResult& b, const std::string& what) {
+    EXPECT_EQ(a.PointSource, b.PointSource) << what;
+    EXPECT_EQ(a.Triangles, b.Triangles) << what;
+    EXPECT_EQ(a.ReversedNormals, b.ReversedNormals) << what;
+    EXPECT_EQ(a.BackFacesCulled, b.BackFacesCulled) << what;
+  };
+  std::mt19937 rng(11);
+  int compared = 0, refused = 0;
+  for (const auto& model : ClosedModels(5))
+  {
+    Built b = Build(model.second, 5);
+    const plod::OctreeView& v = b.View;
+    plod::PatchWorkspace serialWs, rangesWs;
+    plod::PatchOptions remembered;
+    remembered.OctreeStamp = 7;
+    remembered.CullBackFaces = true;
+    remembered.Eye[2] = 3.0;
+    plod::PatchOptions ranges = remembered;
+    ranges.For = backwards;
+    ranges.TrianglesPerRange = 5;
+    plod::PatchOptions fresh = remembered;
+    fresh.OctreeStamp = 0;
+    std::vector<uint8_t> cut = RandomCut(v, rng, 0.2);
+    for (int frame = 0; frame < 16; ++frame)
+    {
+      cut = frame % 4 == 0 ? RandomCut(v, rng, 0.2) : neighbour(v, cut, rng);
+      std::string why;
+      ASSERT_TRUE(plod::ValidateCut(v, cut.data(), &why)) << why;
+      plod::PatchResult a, c, d;
+      ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, a, &why, nullptr, fresh)) << why;
+      ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, c, &why, &serialWs, remembered))
+        << why;
+      ASSERT_TRUE(plod::GeneratePatches(v, cut.data(), nullptr, d, &why, &rangesWs, ranges)) << why;
+      const std::string what = model.first + " frame " + std::to_string(frame);
+      same(a, c, what + " (remembered)");
+      same(a, d, what + " (remembered, in ranges)");
+      compared += a.Triangles.empty() ? 0 : 1;
+    }
+    // an invalid cut after valid ones: a cut cell's parent put in the cut above it
+    std::vector<uint8_t> bad = cut;
+    for (int64_t n = v.NumberOfNodes - 1; n > 0; --n)
+    {
+      if (bad[n] == plod::CutDrawn && v.Level[n] >= 2)
+      {
+        bad[v.Parent[n]] = plod::CutDrawn;
+        break;
+      }
+    }
+    // (the walk finds the error only where a drawn triangle's corner leads below the parent)
+    plod::PatchResult a, c;
+    std::string whyA, whyC;
+    const bool okA = plod::GeneratePatches(v, bad.data(), nullptr, a, &whyA, nullptr, fresh);
+    const bool okC = plod::GeneratePatches(v, bad.data(), nullptr, c, &whyC, &serialWs, remembered);
+    EXPECT_EQ(okC, okA) << model.first;
+    EXPECT_EQ(whyC, whyA) << model.first;
+    if (okA && okC)
+      same(a, c, model.first + " (a cut cell's parent in the cut)");
+    refused += okA ? 0 : 1;
+  }
+  EXPECT_GT(compared, 150);
+  EXPECT_GT(refused, 3);
+
+  // a uniform cut, then the same with one refined parent put in the cut above its children (no
+  // longer reached): every corner leading there was remembered at a child, and is refused
+  auto blob = plodtest::MakeBlob(2, 40, 0.35);
+  Built built = Build(blob, 5);
+  const plod::OctreeView& bv = built.View;
+  std::vector<uint8_t> uniform(bv.NumberOfNodes);
+  plod::UniformCut(bv, 3, uniform.data());
+  std::vector<uint8_t> covered = uniform;
+  for (int64_t n = 0; n < bv.NumberOfNodes; ++n)
+  {
+    if (bv.Level[n] == 2 && !bv.IsLeaf(n))
+    {
+      covered[n] = plod::CutDrawn;
+      break;
+    }
+  }
+  plod::PatchWorkspace coveredWs;
+  plod::PatchOptions stamped;
+  stamped.OctreeStamp = 9;
+  plod::PatchResult a, c;
+  std::string whyA, whyC;
+  ASSERT_TRUE(plod::GeneratePatches(bv, uniform.data(), nullptr, c, &whyC, &coveredWs, stamped));
+  EXPECT_FALSE(plod::GeneratePatches(bv, covered.data(), nullptr, a, &whyA));
+  EXPECT_FALSE(plod::GeneratePatches(bv, covered.data(), nullptr, c, &whyC, &coveredWs, stamped));
+  EXPECT_EQ(whyC, whyA);
+
+  // another octree with as many points (the blob turned) under a new stamp: not read with the
+  // first one's clusters
+  auto turned = vtkSmartPointer<vtkPolyData>::New();
+  turned->DeepCopy(blob);
+  for (vtkIdType i = 0; i < turned->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    turned->GetPoints()->GetPoint(i, x);
+    turned->GetPoints()->SetPoint(i, 0.8 * x[0] - 0.6 * x[1], 0.6 * x[0] + 0.8 * x[1], x[2]);
+  }
+  Built other = Build(turned, 5);
+  ASSERT_EQ(other.View.NumberOfPoints, bv.NumberOfPoints);
+  plod::PatchOptions next = stamped;
+  next.OctreeStamp = 10;
+  for (int level : { 3, 4 })
+  {
+    std::vector<uint8_t> cut(other.View.NumberOfNodes);
+    plod::UniformCut(other.View, level, cut.data());
+    std::string why;
+    ASSERT_TRUE(plod::GeneratePatches(other.View, cut.data(), nullptr, a, &why)) << why;
+    ASSERT_TRUE(plod::GeneratePatches(other.View, cut.data(), nullptr, c, &why, &coveredWs, next))
+      << why;
+    same(a, c, "another octree, level " + std::to_string(level));
+  }
+}
+
 // The filter on 1, 2 and 8 threads: the same arrays, value for value.
 TEST(MultiscalePatchGenerator, AnyThreadCountGivesTheSameOutput)
 {
