@@ -146,6 +146,16 @@ std::vector<std::pair<std::string, vtkSmartPointer<vtkPolyData>>> ClosedModels(i
   return m;
 }
 
+/// A ParallelFor that runs its ranges backwards (as a thread pool may), in ranges of `grain`.
+plod::ParallelFor Backwards()
+{
+  return [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
+    grain = std::max<int64_t>(1, grain);
+    for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
+      body(b, std::min(n, b + grain));
+  };
+}
+
 } // namespace
 
 TEST(MultiscalePatchGenerator, EveryCutDrawsTheVertexClusteringOfTheInput)
@@ -1201,13 +1211,7 @@ TEST(MultiscalePatchGenerator, PiecesWithGhostsDrawTheWholeOnce)
 // ranges, and finds the same error in an invalid cut.
 TEST(MultiscalePatchGenerator, ParallelRangesGiveTheSerialOutput)
 {
-  // a ParallelFor that runs its ranges backwards (as a thread pool may), in ranges of `grain`
-  plod::ParallelFor backwards = [](int64_t n, int64_t grain,
-                                  const std::function<void(int64_t, int64_t)>& body) {
-    grain = std::max<int64_t>(1, grain);
-    for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
-      body(b, std::min(n, b + grain));
-  };
+  const plod::ParallelFor backwards = Backwards();
   std::mt19937 rng(5);
   int compared = 0;
   for (const auto& model : ClosedModels(5))
@@ -1282,12 +1286,7 @@ TEST(MultiscalePatchGenerator, ParallelRangesGiveTheSerialOutput)
 // is not read with the old one's clusters.
 TEST(MultiscalePatchGenerator, RememberedCornerWalksGiveTheFreshOutput)
 {
-  plod::ParallelFor backwards = [](int64_t n, int64_t grain,
-                                  const std::function<void(int64_t, int64_t)>& body) {
-    grain = std::max<int64_t>(1, grain);
-    for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
-      body(b, std::min(n, b + grain));
-  };
+  const plod::ParallelFor backwards = Backwards();
   // `cut` with about a fifth of its cut cells refined one level (a leaf opened) and a fifth of
   // the refined parents of cut cells coarsened: another valid cut
   auto neighbour = [](const plod::OctreeView& v, std::vector<uint8_t> cut, std::mt19937& rng) {
