@@ -606,7 +606,8 @@ int64_t CountDrawnTriangles(const OctreeView& v, const uint8_t* state, const uin
   PatchResult counters;
   std::string error;
   bool ok = WalkAboveTheCut(v, state, ws, counters, error);
-  const TriangleJudge judge(v, state, cullMask, ws.Reached.data(), options);
+  const TriangleJudge judge(
+    v, state, cullMask, ws.Reached.data(), options, RememberedWalks(v, options, ws));
   const int64_t ranges = ok ? SplitIntoRanges(v, ws, options.TrianglesPerRange) : 0;
   std::vector<int64_t>& drawn = ws.RangeDrawn;
   drawn.assign(static_cast<size_t>(ranges), 0);

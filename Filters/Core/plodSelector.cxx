@@ -2,6 +2,7 @@
 #include "plodSelector.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <cstdio>
@@ -1248,6 +1249,9 @@ void HeapPop(std::vector<T>& heap, Less less)
 
 void Selector::SetOctree(const OctreeView& view)
 {
+  // a new identity for the exact budget's remembered corner walks (PatchOptions::OctreeStamp)
+  static std::atomic<uint64_t> stamps{ 0 };
+  this->CountOptions.OctreeStamp = ++stamps;
   this->View = view;
   this->SinTheta.resize(view.NumberOfNodes);
   this->CosTheta.resize(view.NumberOfNodes);

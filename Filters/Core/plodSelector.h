@@ -517,7 +517,7 @@ private:
   std::vector<Entry> Stack;
   std::vector<Candidate> Queue;     // the budget walk's max-heap
   PatchWorkspace CountSpace;        // ExactBudget's count of the drawn triangles
-  PatchOptions CountOptions;        // its rules (For kept, the view's set each frame)
+  PatchOptions CountOptions;        // its rules (For, octree stamp kept; the view's set each frame)
   std::vector<Candidate> QueueRest; // SkipMisfits' last pass: the queue it reads
   std::vector<WaitingCell> Waiting;
   std::vector<float> SinTheta, CosTheta;

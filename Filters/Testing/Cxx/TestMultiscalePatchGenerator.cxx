@@ -1359,6 +1359,11 @@ TEST(MultiscalePatchGenerator, RememberedCornerWalksGiveTheFreshOutput)
       const std::string what = model.first + " frame " + std::to_string(frame);
       same(a, c, what + " (remembered)");
       same(a, d, what + " (remembered, in ranges)");
+      // the count alone (the selector's exact budget) with the same remembered walks
+      const int64_t drawn = static_cast<int64_t>(a.Triangles.size() / 3);
+      EXPECT_EQ(plod::CountDrawnTriangles(v, cut.data(), nullptr, remembered, serialWs), drawn)
+        << what;
+      EXPECT_EQ(plod::CountDrawnTriangles(v, cut.data(), nullptr, ranges, rangesWs), drawn) << what;
       compared += a.Triangles.empty() ? 0 : 1;
     }
     // an invalid cut after valid ones: a cut cell's parent put in the cut above it
