@@ -12,6 +12,12 @@
  * other triangle has collapsed, so the work is proportional to what is drawn plus the nodes above
  * the cut, not to the input.
  *
+ * A corner's representative is found by walking the cluster tree up from its point's leaf
+ * cluster to the first cluster whose node is in the cut. With PatchOptions::OctreeStamp, the
+ * workspace remembers where each point's walk ended, and the next call starts there when that
+ * cluster is still a reached cut cluster (then it is the representative), so a corner whose cut
+ * cell did not change costs one check instead of a walk.
+ *
  * Cracks cannot open: neighbouring triangles share corners in the output exactly as they do in
  * the input. A closed, consistently oriented input gives, at any cut, a set of triangles in which
  * every edge is used as often in one direction as in the other.
