@@ -538,8 +538,9 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   // (every cut node is marked before the first triangle looks for its representatives)
   bool ok = WalkAboveTheCut(v, state, ws, out, error);
   // 2. each owned triangle decided (in parallel when asked), 3. the drawn ones emitted in order
-  const TriangleJudge judge(
-    v, state, cullMask, ws.Reached.data(), options, RememberedWalks(v, options, ws));
+  // (remembered only in a workspace that outlives the call)
+  const TriangleJudge judge(v, state, cullMask, ws.Reached.data(), options,
+    workspace ? RememberedWalks(v, options, ws) : nullptr);
   PatchEmitter emit(v, ws, out);
   if (ok && options.For)
   {

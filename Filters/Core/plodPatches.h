@@ -141,10 +141,10 @@ struct PatchOptions
   /**
    * The octree's identity for the corner walks the workspace remembers (PatchWorkspace::
    * CutCluster): a value that changes whenever the octree's arrays do (the VTK layer passes
-   * vtkMultiscaleOctree's checked stamp). Non-zero, each corner first tries the cluster its walk
-   * ended at in the last call with the same value, and walks from its leaf only when that
-   * cluster's node is no longer a reached cut node. 0 (default): every corner walks from its
-   * leaf. The output is the same either way for a valid cut.
+   * vtkMultiscaleOctree's checked stamp). Non-zero, with a workspace given, each corner first
+   * tries the cluster its walk ended at in the last call with the same value, and walks from its
+   * leaf only when that cluster's node is no longer a reached cut node. 0 (default): every
+   * corner walks from its leaf. The output is the same either way for a valid cut.
    */
   uint64_t OctreeStamp = 0;
 };
