@@ -134,13 +134,9 @@ def thin_parts_model(resolution=200):
         clean.SetInputData(p)
         clean.Update()
         append.AddInputData(clean.GetOutput())
-    append.Update()
     tri = vtkTriangleFilter()
     tri.SetInputConnection(append.GetOutputPort())
-    tri.Update()
-    pd = vtkPolyData()
-    pd.DeepCopy(tri.GetOutput())
-    return pd
+    return plod_scene.output_copy(tri)
 
 
 def subdivided(data, times=2):
@@ -151,10 +147,7 @@ def subdivided(data, times=2):
     loop = vtkLoopSubdivisionFilter()
     loop.SetInputConnection(clean.GetOutputPort())
     loop.SetNumberOfSubdivisions(times)
-    loop.Update()
-    pd = vtkPolyData()
-    pd.DeepCopy(loop.GetOutput())
-    return pd
+    return plod_scene.output_copy(loop)
 
 
 def models(data, quick):
@@ -292,9 +285,7 @@ def measure_finest(name, scene, writer):
     cutter.SetLevel(-1)
     patches = plod.vtkMultiscalePatchGenerator()
     patches.SetInputConnection(cutter.GetOutputPort())
-    patches.Update()
-    finest = vtkPolyData()
-    finest.DeepCopy(patches.GetOutput())
+    finest = plod_scene.output_copy(patches)
     rows = []
     for az in AZIMUTHS:
         scene.reset_view(az, DISTANCES['mid'])

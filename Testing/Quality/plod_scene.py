@@ -42,6 +42,15 @@ VIEW_ANGLE = 30.0
 
 # ---- models -----------------------------------------------------------------------------------
 
+def output_copy(algorithm):
+    """Runs `algorithm` and returns a deep copy of its polydata output (which the next run
+    would overwrite)."""
+    algorithm.Update()
+    pd = vtkPolyData()
+    pd.DeepCopy(algorithm.GetOutput())
+    return pd
+
+
 def read_ply(path, triangles=False):
     """The PLY file as vtkPolyData (as triangles with `triangles`). vtkPLYFileCheck reads it
     first: a corrupt file (cut short, counts that lie, indices out of range, ...) raises
@@ -56,15 +65,11 @@ def read_ply(path, triangles=False):
     reader.Update()
     if reader.GetOutput().GetNumberOfPoints() == 0:
         raise ValueError(f'{path}: no points')
-    out = reader.GetOutput()
-    if triangles:
-        tri = vtkTriangleFilter()
-        tri.SetInputData(out)
-        tri.Update()
-        out = tri.GetOutput()
-    pd = vtkPolyData()
-    pd.DeepCopy(out)
-    return pd
+    if not triangles:
+        return output_copy(reader)
+    tri = vtkTriangleFilter()
+    tri.SetInputConnection(reader.GetOutputPort())
+    return output_copy(tri)
 
 
 def generated_model(resolution, noise=0.25, seed=11):
@@ -72,9 +77,7 @@ def generated_model(resolution, noise=0.25, seed=11):
     sphere = vtkSphereSource()
     sphere.SetThetaResolution(resolution)
     sphere.SetPhiResolution(resolution)
-    sphere.Update()
-    pd = vtkPolyData()
-    pd.DeepCopy(sphere.GetOutput())
+    pd = output_copy(sphere)
     rng = np.random.default_rng(seed)
     waves = rng.uniform(-1, 1, size=(8, 4))
     pts = vtk_to_numpy(pd.GetPoints().GetData())
@@ -93,10 +96,7 @@ def smooth(data):
     normals = vtkPolyDataNormals()
     normals.SetInputData(data)
     normals.SplittingOff()
-    normals.Update()
-    out = vtkPolyData()
-    out.DeepCopy(normals.GetOutput())
-    return out
+    return output_copy(normals)
 
 
 def decimated(full, target):
@@ -223,10 +223,7 @@ class Scene:
         cutter.SetInputConnection(self.builder.GetOutputPort())
         finest = vtkMultiscalePatchGenerator()
         finest.SetInputConnection(cutter.GetOutputPort())
-        finest.Update()
-        mesh = vtkPolyData()
-        mesh.DeepCopy(finest.GetOutput())
-        return mesh
+        return output_copy(finest)
 
     # ---- views: the camera reset to the bounds (still protocols), or the eye on +z (moving) ----
 
@@ -279,15 +276,19 @@ class Scene:
 
     # ---- images ---------------------------------------------------------------------------------
 
-    def grab(self):
-        """Renders the window; its RGB image (rows bottom to top, as VTK reads them)."""
-        self.window.Render()
+    def read_image(self):
+        """The window's RGB image as last rendered (rows bottom to top, as VTK reads them)."""
         grab = vtkWindowToImageFilter()
         grab.SetInput(self.window)
         grab.ReadFrontBufferOff()
         grab.Update()
         img = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars())
         return img.reshape(self.size[1], self.size[0], -1)[..., :3].copy()
+
+    def grab(self):
+        """Renders the window; its RGB image."""
+        self.window.Render()
+        return self.read_image()
 
     def render_actor(self, actor):
         """The RGB image of `actor` alone."""
@@ -323,11 +324,9 @@ class Scene:
         if self.gpu_actor is None:
             self.gpu_mapper = vtkPerceptualLODMapper()
             self.gpu_mapper.SetOctreeConnection(self.selector.GetOutputPort())
-            self.gpu_actor = grey_actor(self.gpu_mapper)
-        set_material(self.gpu_actor, self.lod_actor.GetProperty().GetDiffuse(),
-                     self.lod_actor.GetProperty().GetSpecular(),
-                     self.lod_actor.GetProperty().GetSpecularPower(),
-                     self.lod_actor.GetProperty().GetColor())
+            self.gpu_actor = vtkActor()
+            self.gpu_actor.SetMapper(self.gpu_mapper)
+            self.gpu_actor.SetProperty(self.lod_actor.GetProperty())  # one material for both paths
         self.selector.ScaleTolerances(scale)
         self.renderer.RemoveAllViewProps()
         self.renderer.AddActor(self.gpu_actor)
@@ -361,12 +360,7 @@ class Scene:
         t0 = time.perf_counter()
         self.window.Render()
         ms = (time.perf_counter() - t0) * 1e3
-        grab = vtkWindowToImageFilter()
-        grab.SetInput(self.window)
-        grab.ReadFrontBufferOff()
-        grab.Update()
-        img = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars())
-        img = metrics.luminance(img.reshape(self.size[1], self.size[0], -1)[..., :3])
+        img = metrics.luminance(self.read_image())
         self.renderer.RemoveAllViewProps()
         self.renderer.AddActor(self.actor)
         return img, ms
