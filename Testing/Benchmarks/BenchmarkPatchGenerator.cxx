@@ -70,6 +70,15 @@ vtkSmartPointer<vtkMultiscaleOctree> MakeCut(int which)
   return cutter->GetOutput();
 }
 
+/// The generator's last triangle count and its rate in million triangles per second.
+void ReportTriangles(benchmark::State& state, vtkMultiscalePatchGenerator* gen)
+{
+  const double tris = static_cast<double>(gen->GetNumberOfTriangles());
+  state.counters["triangles"] = tris;
+  state.counters["Mtri/s"] =
+    benchmark::Counter(tris * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 /// The patches of cut `state.range(0)` on `threads` threads (0: vtkSMPTools' default, every
 /// core).
 void RunPatches(benchmark::State& state, int threads)
@@ -84,10 +93,7 @@ void RunPatches(benchmark::State& state, int threads)
     gen->Update();
     state.SetIterationTime(gen->GetGenerateTime());
   }
-  const double tris = static_cast<double>(gen->GetNumberOfTriangles());
-  state.counters["triangles"] = tris;
-  state.counters["Mtri/s"] =
-    benchmark::Counter(tris * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+  ReportTriangles(state, gen);
   vtkSMPTools::Initialize(0);
 }
 
@@ -125,10 +131,7 @@ void BM_PatchesOrbit(benchmark::State& state)
     gen->Update();
     state.SetIterationTime(gen->GetGenerateTime());
   }
-  const double tris = static_cast<double>(gen->GetNumberOfTriangles());
-  state.counters["triangles"] = tris;
-  state.counters["Mtri/s"] =
-    benchmark::Counter(tris * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+  ReportTriangles(state, gen);
 }
 
 /// vtkQuadricClustering with the divisions that give about the cut's triangle count.
