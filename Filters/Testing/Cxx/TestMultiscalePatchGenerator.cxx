@@ -146,6 +146,19 @@ std::vector<std::pair<std::string, vtkSmartPointer<vtkPolyData>>> ClosedModels(i
   return m;
 }
 
+/// `x` and `y` hold the same values, bit for bit.
+void ExpectSameValues(vtkDataArray* x, vtkDataArray* y, const std::string& what)
+{
+  ASSERT_NE(x, nullptr) << what;
+  ASSERT_NE(y, nullptr) << what;
+  ASSERT_EQ(x->GetNumberOfValues(), y->GetNumberOfValues()) << what;
+  ASSERT_EQ(x->GetDataType(), y->GetDataType()) << what;
+  EXPECT_EQ(std::memcmp(x->GetVoidPointer(0), y->GetVoidPointer(0),
+              size_t(x->GetNumberOfValues()) * size_t(x->GetDataTypeSize())),
+    0)
+    << what;
+}
+
 /// A ParallelFor that runs its ranges backwards (as a thread pool may), in ranges of `grain`.
 plod::ParallelFor Backwards()
 {
@@ -1442,6 +1455,86 @@ TEST(MultiscalePatchGenerator, RememberedCornerWalksGiveTheFreshOutput)
   }
 }
 
+// The filter on the Stanford bunny as a camera reset to its bounds orbits and dollies in, its
+// input switching between the bunny's octree and the octree of the bunny turned about its
+// centre (the same number of points, other clusters):
+// every frame, the output of the generator that remembers its walks (and the octree's stamp
+// that keys them) equals, bit for bit, a new generator's, which walks every corner afresh.
+TEST(MultiscalePatchGenerator, RememberedWalksOnTheBunnyFollowTheCutAndTheOctree)
+{
+  const std::string dir = plodtest::DataDir();
+  if (dir.empty())
+  {
+    GTEST_SKIP() << "../shared/data (Stanford scans) not found: set PLOD_DATA_DIR";
+  }
+  auto bunny = plodtest::ReadPLY(dir + "/bun_zipper.ply");
+  ASSERT_TRUE(bunny);
+  // the camera vtkRenderer::ResetCamera places: the bounds' sphere fills the 30-degree view
+  double bounds[6], centre[3], radius = 0;
+  bunny->GetBounds(bounds);
+  for (int a = 0; a < 3; ++a)
+  {
+    centre[a] = 0.5 * (bounds[2 * a] + bounds[2 * a + 1]);
+    radius += 0.25 * (bounds[2 * a + 1] - bounds[2 * a]) * (bounds[2 * a + 1] - bounds[2 * a]);
+  }
+  auto turned = vtkSmartPointer<vtkPolyData>::New();
+  turned->DeepCopy(bunny);
+  for (vtkIdType i = 0; i < turned->GetNumberOfPoints(); ++i)
+  {
+    double x[3];
+    turned->GetPoints()->GetPoint(i, x);
+    const double u = x[0] - centre[0], w = x[2] - centre[2];
+    turned->GetPoints()->SetPoint(
+      i, centre[0] + 0.8 * u - 0.6 * w, x[1], centre[2] + 0.6 * u + 0.8 * w);
+  }
+  const Built octrees[2] = { Build(bunny, 8), Build(turned, 8) };
+  ASSERT_EQ(octrees[0].View.NumberOfPoints, octrees[1].View.NumberOfPoints);
+  const double reset = std::sqrt(radius) / std::sin(vtkMath::RadiansFromDegrees(15.0));
+  vtkNew<vtkPerceptualLODSelector> selector;
+  selector->SetViewportSize(640, 480);
+  selector->AddLight(false, 0, 0, 1, 1, 0);
+  vtkNew<vtkMultiscalePatchGenerator> kept;
+  kept->SetInputConnection(selector->GetOutputPort());
+  kept->GenerateNodeIdsOn();
+  int64_t drawn = 0;
+  for (int frame = 0; frame < 24; ++frame)
+  {
+    selector->SetInputData(octrees[(frame / 4) % 2].Octree);
+    const double az = vtkMath::RadiansFromDegrees(3.0 * frame);
+    const double d = reset * (frame % 3 == 2 ? 0.35 : 1.0); // every third frame dollied in
+    vtkNew<vtkCamera> camera;
+    camera->SetFocalPoint(centre);
+    camera->SetPosition(
+      centre[0] + d * std::sin(az), centre[1] + 0.2 * d, centre[2] + d * std::cos(az));
+    camera->SetViewAngle(30);
+    camera->SetClippingRange(0.01 * d, 10 * d);
+    double planes[24];
+    camera->GetFrustumPlanes(640.0 / 480.0, planes);
+    selector->SetEyePosition(camera->GetPosition());
+    selector->SetFrustumPlanes(planes);
+    selector->SetLight(
+      0, false, camera->GetPosition()[0], camera->GetPosition()[1], camera->GetPosition()[2], 1, 0);
+    kept->Update();
+    vtkNew<vtkMultiscalePatchGenerator> fresh;
+    fresh->SetInputData(selector->GetOutput());
+    fresh->GenerateNodeIdsOn();
+    fresh->Update();
+    vtkPolyData* a = fresh->GetOutput();
+    vtkPolyData* b = kept->GetOutput();
+    const std::string what = "frame " + std::to_string(frame);
+    ASSERT_GT(a->GetNumberOfPolys(), 0) << what;
+    ExpectSameValues(a->GetPoints()->GetData(), b->GetPoints()->GetData(), what + ": points");
+    ExpectSameValues(
+      a->GetPointData()->GetNormals(), b->GetPointData()->GetNormals(), what + ": normals");
+    ExpectSameValues(a->GetPointData()->GetArray("OctreeNode"),
+      b->GetPointData()->GetArray("OctreeNode"), what + ": nodes");
+    ExpectSameValues(a->GetPolys()->GetConnectivityArray(), b->GetPolys()->GetConnectivityArray(),
+      what + ": triangles");
+    drawn += a->GetNumberOfPolys();
+  }
+  EXPECT_GT(drawn, 24 * 1000);
+}
+
 // The filter on 1, 2 and 8 threads: the same arrays, value for value.
 TEST(MultiscalePatchGenerator, AnyThreadCountGivesTheSameOutput)
 {
@@ -1461,16 +1554,7 @@ TEST(MultiscalePatchGenerator, AnyThreadCountGivesTheSameOutput)
     pd->DeepCopy(gen->GetOutput());
     return pd;
   };
-  auto same = [](vtkDataArray* x, vtkDataArray* y, const std::string& what) {
-    ASSERT_NE(x, nullptr) << what;
-    ASSERT_NE(y, nullptr) << what;
-    ASSERT_EQ(x->GetNumberOfValues(), y->GetNumberOfValues()) << what;
-    ASSERT_EQ(x->GetDataType(), y->GetDataType()) << what;
-    EXPECT_EQ(std::memcmp(x->GetVoidPointer(0), y->GetVoidPointer(0),
-                size_t(x->GetNumberOfValues()) * size_t(x->GetDataTypeSize())),
-      0)
-      << what;
-  };
+  const auto same = ExpectSameValues;
   const auto reference = run(1, false);
   ASSERT_GT(reference->GetNumberOfPolys(), 2 * 16384) << "too small to split in ranges";
   for (int threads : { 1, 2, 8 })
