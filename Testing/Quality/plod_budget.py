@@ -47,6 +47,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import plod_faithful as pf  # noqa: E402
+import plod_scene  # noqa: E402
 import plod_metrics as metrics  # noqa: E402
 
 FLOOR = 1.0 / 16
@@ -94,7 +95,7 @@ def measure(name, model, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
                     img, btris = scene.render_lod(FLOOR)
                     row(method + suffix, tris, btris, img, select_ms(scene), budget)
             scene.selector.SetTriangleBudget(0)
-            qd, qd_tris = pf.decimated(scene.full, tris)
+            qd, qd_tris, _ = plod_scene.decimated(scene.full, tris)
             row('QD', tris, qd_tris, scene.render_data(qd))
     return rows
 

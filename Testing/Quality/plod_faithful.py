@@ -44,7 +44,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plod_metrics as metrics  # noqa: E402
 import plod_scene  # noqa: E402
 import perceptual_lod as plod  # noqa: E402
-from plod_scene import decimated as _decimated, read_ply as _read_ply, smooth  # noqa: E402
+from plod_scene import read_ply as _read_ply, smooth  # noqa: E402
 
 SIZE = (640, 480)
 DISTANCES = {'far': 0.25, 'mid': 1.0, 'close': 3.0}
@@ -65,12 +65,6 @@ displaced_sphere = plod_scene.generated_model  # a closed detailed model: a disp
 def make_scene(model, rule=None):
     """This protocol's scene (plod_scene.Scene): 640x480 on the blue background."""
     return plod_scene.Scene(model, size=SIZE, rule=rule, background=BACKGROUND)
-
-
-def decimated(full, target):
-    """vtkQuadricDecimation of `full` to `target` triangles, once: (mesh, triangles)."""
-    mesh, tris, _ = _decimated(full, target)
-    return mesh, tris
 
 
 def grid_surface(nu, nv, fn, closed_u, closed_v):
@@ -260,7 +254,7 @@ def measure_views(name, scene, writer, scales=(1.0, 8.0), with_qd=True):
                            qd_triangles='', qd_psnr='', qd_holes='', mo_triangles='',
                            mo_psnr='')
                 if with_qd and scale == 1.0 and tris > 0:
-                    qd, qd_tris = decimated(scene.full, tris)
+                    qd, qd_tris, _ = plod_scene.decimated(scene.full, tris)
                     qimg = scene.render_data(qd)
                     row['qd_triangles'] = qd_tris
                     row['qd_psnr'] = metrics.psnr(lum(ref), lum(qimg))
@@ -323,7 +317,7 @@ def trade_curve(name, scenes, writer, scales=(0.25, 0.5, 1, 2, 4, 8, 16)):
                 emit(model=name, azimuth=az, method=rule, scale=scale, triangles=tris,
                      psnr=metrics.psnr(lum(ref), lum(img)))
                 if rule == 'qef' and tris > 0:
-                    qd, qd_tris = decimated(scene.full, tris)
+                    qd, qd_tris, _ = plod_scene.decimated(scene.full, tris)
                     emit(model=name, azimuth=az, method='QD', scale=scale, triangles=qd_tris,
                          psnr=metrics.psnr(lum(ref), lum(scene.render_data(qd))))
                     mo, mo_tris = meshopt(scene.full, tris)

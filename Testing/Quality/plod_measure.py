@@ -195,13 +195,6 @@ def matched_tolerance(scene, name, target, low=1e-3, high=1e3):
     return best
 
 
-def decimated(scene, target):
-    """vtkQuadricDecimation of the full mesh to `target` triangles (done once: static LOD):
-    (mesh, milliseconds)."""
-    mesh, _, ms = plod_scene.decimated(scene.full, target)
-    return mesh, ms
-
-
 def clustered(scene, target):
     """vtkQuadricClustering of the full mesh to about `target` triangles (re-run per frame)."""
     qc = vtkQuadricClustering()
@@ -242,7 +235,7 @@ def still_images(scene, distances, writer):
             d, tris, s, p, tol = matched_tolerance(scene, name, target, *bounds)
             entries.append((name, d, tris, s, p, tol))
         if not scene.name.endswith('scans'):
-            d, ms = decimated(scene, target)
+            d, _, ms = plod_scene.decimated(scene.full, target)
             entries.append(('vtkQuadricDecimation (static)', d, d.GetNumberOfPolys(), 0.0, 0.0, float('nan')))
             d, ms = clustered(scene, target)
             entries.append(('vtkQuadricClustering (per frame)', d, d.GetNumberOfPolys(), ms, 0.0, float('nan')))
@@ -273,7 +266,7 @@ def frontier(scene, distance, scales, writer):
             rows.append(row)
     # what a VTK user would do instead: vtkQuadricDecimation once, at each SRCC count
     for tris in sorted({r['triangles'] for r in rows if r['method'] == 'SRCC' and r['triangles'] > 0}):
-        data, _ = decimated(scene, tris)
+        data, _, _ = plod_scene.decimated(scene.full, tris)
         img, rms = scene.render(data)
         row = dict(model=scene.name, method='vtkQuadricDecimation (static)', scale=0,
                    triangles=data.GetNumberOfPolys(), frame_ms=rms, select_ms=0, patch_ms=0,

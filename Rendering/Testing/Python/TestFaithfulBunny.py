@@ -18,6 +18,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', '..', '..', 'Testing', 'Quality'))
 import plod_faithful as faithful  # noqa: E402
 import plod_metrics as metrics  # noqa: E402
+import plod_scene  # noqa: E402
 
 DATA = os.environ.get('PLOD_DATA_DIR', os.path.join(HERE, '..', '..', '..', '..', 'shared', 'data'))
 BUNNY = os.path.join(DATA, 'bun_zipper.ply')
@@ -42,7 +43,7 @@ class FaithfulBunny(unittest.TestCase):
             img, tris = s.render_lod_gpu(1.0) if gpu else s.render_lod(1.0)
             self.assertGreater(tris, 0)
             holes.append(faithful.hole_split(inner, img)[0])
-            qd, _ = faithful.decimated(s.full, tris)
+            qd, _, _ = plod_scene.decimated(s.full, tris)
             qimg = s.render_data(qd)
             lum = faithful.lum
             margins.append(faithful.metrics.psnr(lum(ref), lum(img)) -
