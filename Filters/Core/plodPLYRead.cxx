@@ -37,15 +37,15 @@ int FindProperty(const PLYElement& e, const char* name)
   return -1;
 }
 
-/// Reads the rows of the body in file order and keeps the vertex and face data.
+/// Reads the rows of the body in file order and hands the vertex and face data to a sink.
 class MeshReader
 {
 public:
-  MeshReader(const PLYSummary& header, PLYMesh* mesh, std::string* why, const PLYProgress& progress,
-    double maxBytes)
-    : MaxBytes(maxBytes)
-    , Header(header)
-    , Mesh(mesh)
+  MeshReader(const PLYSummary& header, PLYMeshSink* sink, PLYStreamCounts* counts, std::string* why,
+    const PLYProgress& progress)
+    : Header(header)
+    , Sink(sink)
+    , Counts(counts)
     , Why(why)
     , Progress(progress)
     , Ascii(header.Format == PLYFormat::ASCII)
@@ -254,13 +254,15 @@ private:
       return true;
     }
     return this->WalkRows(
-      e, [](size_t) { return false; }, [](int64_t, size_t) { return true; });
+      e, [](size_t) { return false; }, [](int64_t, size_t) { return true; },
+      [](int64_t) { return true; });
   }
 
   /// The rows of `e` in order: progress every ProgressRows rows, `read(row, index)` for each
-  /// property `wanted(index)` selects (the others skipped), and the end of each ASCII row.
-  template <typename Wanted, typename Read>
-  bool WalkRows(const PLYElement& e, Wanted&& wanted, Read&& read)
+  /// property `wanted(index)` selects (the others skipped), `done(row)` after the row's
+  /// properties, and the end of each ASCII row.
+  template <typename Wanted, typename Read, typename Done>
+  bool WalkRows(const PLYElement& e, Wanted&& wanted, Read&& read, Done&& done)
   {
     for (int64_t row = 0; row < e.Count; ++row)
     {
@@ -276,7 +278,7 @@ private:
           return false;
         }
       }
-      if (!this->EndRow(e, row))
+      if (!done(row) || !this->EndRow(e, row))
       {
         return false;
       }
@@ -314,52 +316,26 @@ private:
         s = s >= 3 ? -1 : s;
       }
     }
-    PLYMesh& m = *this->Mesh;
-    const bool dbl = PLYHasDoubleCoordinates(this->Header);
-    m.NumberOfPoints = e.Count;
-    if (dbl)
+    if (!this->Sink->BeginVertices(
+          e.Count, PLYHasDoubleCoordinates(this->Header), normals, this->Why))
     {
-      m.PointsDouble.resize(3 * e.Count);
+      return false;
     }
-    else
-    {
-      m.PointsFloat.resize(3 * e.Count);
-    }
-    if (normals)
-    {
-      m.Normals.resize(3 * e.Count);
-    }
+    double values[6] = { 0, 0, 0, 0, 0, 0 };
     return this->WalkRows(
       e, [&](size_t i) { return slot[i] >= 0; },
       [&](int64_t row, size_t i) {
         const PLYProperty& p = e.Properties[i];
-        double v = 0;
-        if (!this->Value(e, row, p, p.Type, &v))
-        {
-          return false;
-        }
-        const int k = slot[i];
-        if (k >= 3)
-        {
-          m.Normals[3 * row + k - 3] = static_cast<float>(v);
-        }
-        else if (dbl)
-        {
-          m.PointsDouble[3 * row + k] = v;
-        }
-        else
-        {
-          m.PointsFloat[3 * row + k] = static_cast<float>(v);
-        }
-        return true;
+        return this->Value(e, row, p, p.Type, &values[slot[i]]);
+      },
+      [&](int64_t row) {
+        return this->Sink->Vertex(row, values, normals ? values + 3 : nullptr, this->Why);
       });
   }
 
   bool ReadFaces(const PLYElement& e)
   {
-    PLYMesh& m = *this->Mesh;
-    m.NumberOfFaces = e.Count;
-    m.Triangles.reserve(3 * static_cast<size_t>(e.Count));
+    this->Counts->NumberOfFaces = e.Count;
     const int64_t points = this->Header.NumberOfVertices; // `vertex` may come after `face`
     int listIndex = -1;
     for (size_t i = 0; i < e.Properties.size() && listIndex < 0; ++i)
@@ -370,7 +346,7 @@ private:
     {
       return this->Fail("element 'face' has no list 'vertex_indices' or 'vertex_index'");
     }
-    std::vector<int32_t> corners;
+    std::vector<int64_t> corners;
     return this->WalkRows(
       e, [&](size_t i) { return static_cast<int>(i) == listIndex; },
       [&](int64_t row, size_t i) {
@@ -386,14 +362,10 @@ private:
           return this->Fail("the file ends inside " + Where(e, row) + ": its list of " +
             std::to_string(n) + " indices");
         }
-        // a face of n corners adds n - 2 triangles: within the memory the caller allows
-        const double grows = 12.0 * double(std::max<int64_t>(0, n - 2)) + 4.0 * double(n);
-        if (this->MaxBytes > 0 &&
-          this->HeldBytes() + 4.0 * double(m.Triangles.size()) + grows > this->MaxBytes)
+        std::string refusal;
+        if (!this->Sink->BeginFace(n, &refusal))
         {
-          return this->Fail(Where(e, row) + ": its face of " + std::to_string(n) +
-            " corners takes the triangles beyond the memory limit of " +
-            std::to_string(static_cast<long long>(this->MaxBytes)) + " bytes");
+          return this->Fail(Where(e, row) + ": " + refusal);
         }
         corners.clear();
         for (int64_t c = 0; c < n; ++c)
@@ -409,45 +381,38 @@ private:
             return this->Fail(Where(e, row) + ": vertex index " + text +
               " is not a whole number in [0, " + std::to_string(points) + ")");
           }
-          corners.push_back(static_cast<int32_t>(v));
+          corners.push_back(static_cast<int64_t>(v));
         }
-        this->AddFan(corners);
-        return true;
-      });
+        return this->AddFan(corners);
+      },
+      [](int64_t) { return true; });
   }
 
   /// A face as a fan of triangles about its first corner.
-  void AddFan(const std::vector<int32_t>& corners)
+  bool AddFan(const std::vector<int64_t>& corners)
   {
-    PLYMesh& m = *this->Mesh;
     if (corners.size() < 3)
     {
-      ++m.NumberOfShortFaces;
-      return;
+      ++this->Counts->NumberOfShortFaces;
+      return true;
     }
     if (corners.size() > 3)
     {
-      ++m.NumberOfSplitFaces;
+      ++this->Counts->NumberOfSplitFaces;
     }
     for (size_t k = 1; k + 1 < corners.size(); ++k)
     {
-      m.Triangles.push_back(corners[0]);
-      m.Triangles.push_back(corners[k]);
-      m.Triangles.push_back(corners[k + 1]);
+      if (!this->Sink->Triangle(corners[0], corners[k], corners[k + 1], this->Why))
+      {
+        return false;
+      }
     }
+    return true;
   }
 
-  /// Bytes of the points and normals (the triangles grow as faces are read).
-  double HeldBytes() const
-  {
-    const PLYMesh& m = *this->Mesh;
-    return 4.0 * double(m.PointsFloat.size() + m.Normals.size()) +
-      8.0 * double(m.PointsDouble.size());
-  }
-
-  const double MaxBytes;
   const PLYSummary& Header;
-  PLYMesh* Mesh;
+  PLYMeshSink* Sink;
+  PLYStreamCounts* Counts;
   std::string* Why;
   const PLYProgress& Progress;
   const bool Ascii;
@@ -456,6 +421,113 @@ private:
   std::string Word;
   bool WordTooLong = false;
 };
+
+/// Keeps the rows in the arrays of a PLYMesh, within a memory limit (0: none).
+class MeshArraysSink : public PLYMeshSink
+{
+public:
+  MeshArraysSink(PLYMesh* mesh, int64_t faces, double maxBytes)
+    : Mesh(*mesh)
+    , Faces(faces)
+    , MaxBytes(maxBytes)
+  {
+  }
+
+  bool BeginVertices(int64_t count, bool doubles, bool normals, std::string*) override
+  {
+    this->Mesh.NumberOfPoints = count;
+    if (doubles)
+    {
+      this->Mesh.PointsDouble.reserve(3 * count);
+    }
+    else
+    {
+      this->Mesh.PointsFloat.reserve(3 * count);
+    }
+    if (normals)
+    {
+      this->Mesh.Normals.reserve(3 * count);
+    }
+    this->Mesh.Triangles.reserve(3 * static_cast<size_t>(this->Faces));
+    this->Doubles = doubles;
+    return true;
+  }
+
+  bool Vertex(int64_t, const double xyz[3], const double normal[3], std::string*) override
+  {
+    PLYMesh& m = this->Mesh;
+    for (int a = 0; a < 3; ++a)
+    {
+      if (this->Doubles)
+      {
+        m.PointsDouble.push_back(xyz[a]);
+      }
+      else
+      {
+        m.PointsFloat.push_back(static_cast<float>(xyz[a]));
+      }
+    }
+    if (normal)
+    {
+      m.Normals.insert(m.Normals.end(),
+        { static_cast<float>(normal[0]), static_cast<float>(normal[1]),
+          static_cast<float>(normal[2]) });
+    }
+    return true;
+  }
+
+  /// A face of n corners adds n - 2 triangles: within the memory the caller allows.
+  bool BeginFace(int64_t n, std::string* why) override
+  {
+    const double grows = 12.0 * double(std::max<int64_t>(0, n - 2)) + 4.0 * double(n);
+    if (this->MaxBytes > 0 && this->HeldBytes() + grows > this->MaxBytes)
+    {
+      *why = "its face of " + std::to_string(n) +
+        " corners takes the triangles beyond the memory limit of " +
+        std::to_string(static_cast<long long>(this->MaxBytes)) + " bytes";
+      return false;
+    }
+    return true;
+  }
+
+  bool Triangle(int64_t a, int64_t b, int64_t c, std::string*) override
+  {
+    this->Mesh.Triangles.insert(this->Mesh.Triangles.end(),
+      { static_cast<int32_t>(a), static_cast<int32_t>(b), static_cast<int32_t>(c) });
+    return true;
+  }
+
+private:
+  /// Bytes of the points, the normals and the triangles so far.
+  double HeldBytes() const
+  {
+    const PLYMesh& m = this->Mesh;
+    return 4.0 * double(m.PointsFloat.size() + m.Normals.size() + m.Triangles.size()) +
+      8.0 * double(m.PointsDouble.size());
+  }
+
+  PLYMesh& Mesh;
+  const int64_t Faces;
+  const double MaxBytes;
+  bool Doubles = false;
+};
+
+/// The header, checked to have a vertex element, then the rows to `sink`.
+bool StreamRows(const std::string& path, PLYMeshSink* sink, PLYStreamCounts* counts,
+  std::string* why, const PLYProgress& progress, PLYSummary* header)
+{
+  if (!ReadPLYHeader(path, why, header))
+  {
+    return false;
+  }
+  if (!FindPLYElement(*header, "vertex"))
+  {
+    *why = "the file has no element 'vertex'";
+    return false;
+  }
+  MeshReader reader(*header, sink, counts, why, progress);
+  return reader.Run(path);
+}
 
 } // namespace
 
@@ -496,6 +568,20 @@ double EstimatePLYMeshBytes(const PLYSummary& header)
 }
 
 //------------------------------------------------------------------------------
+bool StreamPLYMesh(const std::string& path, PLYMeshSink* sink, std::string* why,
+  const PLYProgress& progress, PLYStreamCounts* counts)
+{
+  PLYStreamCounts local;
+  return fileio::RunCheckSafely(
+    why, counts ? counts : &local,
+    [&](std::string* message, PLYStreamCounts* c) {
+      PLYSummary header;
+      return StreamRows(path, sink, c, message, progress, &header);
+    },
+    "reading the mesh", false);
+}
+
+//------------------------------------------------------------------------------
 bool ReadPLYMesh(const std::string& path, PLYMesh* mesh, std::string* why,
   const PLYProgress& progress, double maxBytes)
 {
@@ -507,13 +593,16 @@ bool ReadPLYMesh(const std::string& path, PLYMesh* mesh, std::string* why,
       {
         return false;
       }
-      if (!FindPLYElement(header, "vertex"))
+      MeshArraysSink sink(m, header.NumberOfFaces, maxBytes);
+      PLYStreamCounts counts;
+      if (!StreamRows(path, &sink, &counts, message, progress, &header))
       {
-        *message = "the file has no element 'vertex'";
         return false;
       }
-      MeshReader reader(header, m, message, progress, maxBytes);
-      return reader.Run(path);
+      m->NumberOfFaces = counts.NumberOfFaces;
+      m->NumberOfShortFaces = counts.NumberOfShortFaces;
+      m->NumberOfSplitFaces = counts.NumberOfSplitFaces;
+      return true;
     },
     "reading the mesh", true);
 }

@@ -63,6 +63,44 @@ double EstimatePLYMeshBytes(const PLYSummary& header);
 using PLYProgress = std::function<bool(double)>;
 
 /**
+ * Receives a PLY mesh's rows as StreamPLYMesh reads them, in file order. Each function returns
+ * false to stop the read, with the reason in `why` (the reader adds where in the file it was).
+ */
+class PLYMeshSink
+{
+public:
+  virtual ~PLYMeshSink() = default;
+  /// Before the first vertex row: the rows to come, whether a coordinate is double and whether
+  /// normals (nx, ny, nz) are read.
+  virtual bool BeginVertices(int64_t count, bool doubles, bool normals, std::string* why) = 0;
+  /// One vertex row: its coordinates and, when normals are read, its normal (else null).
+  virtual bool Vertex(
+    int64_t row, const double xyz[3], const double normal[3], std::string* why) = 0;
+  /// Before a face's corners are read: how many it has (a sink may refuse what it cannot hold).
+  virtual bool BeginFace(int64_t corners, std::string* why) = 0;
+  /// One triangle of a face's fan, corner indices in [0, vertex count).
+  virtual bool Triangle(int64_t a, int64_t b, int64_t c, std::string* why) = 0;
+};
+
+/// What a streamed read saw of the faces.
+struct PLYStreamCounts
+{
+  int64_t NumberOfFaces = 0;      ///< rows of `face`
+  int64_t NumberOfShortFaces = 0; ///< rows of fewer than 3 indices, dropped
+  int64_t NumberOfSplitFaces = 0; ///< rows of more than 3 indices, split into fans
+};
+
+/**
+ * Reads the PLY mesh at `path` forward once, through a fixed buffer, handing each vertex row
+ * and each triangle to `sink`; holds nothing of the mesh itself. The same checks as ReadPLYMesh;
+ * false with the reason in `why` (one line, may be null) when the file or the sink stops it.
+ * Rows already handed over stay with the sink: a sink that keeps them must drop them on false.
+ * Never throws.
+ */
+bool StreamPLYMesh(const std::string& path, PLYMeshSink* sink, std::string* why,
+  const PLYProgress& progress = nullptr, PLYStreamCounts* counts = nullptr);
+
+/**
  * Reads the PLY mesh at `path` into `mesh` (replacing what it held). Returns false with the
  * reason in `why` (one line, may be null) on a file that cannot be read, a header without a
  * vertex element, a body that does not match its header, an abort from `progress`, or too

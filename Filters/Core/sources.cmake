@@ -30,6 +30,7 @@ set(plod_core_headers
   plodOctreeStorage.h
   plodParallel.h
   plodPartition.h
+  plodPartitionSteps.h
   plodPatches.h
   plodPLYCheck.h
   plodPLYIO.h
