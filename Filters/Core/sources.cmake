@@ -12,6 +12,7 @@ set(plod_core_sources
   plodOctreeSchema.cxx
   plodPartition.cxx
   plodPatches.cxx
+  plodPieces.cxx
   plodPLYCheck.cxx
   plodPLYRead.cxx
   plodSelector.cxx
@@ -32,6 +33,7 @@ set(plod_core_headers
   plodPartition.h
   plodPartitionSteps.h
   plodPatches.h
+  plodPieces.h
   plodPLYCheck.h
   plodPLYIO.h
   plodPLYRead.h

@@ -5,9 +5,16 @@
 // every triangle of the whole is drawn (lead corner not a ghost) by exactly one rank; every cell
 // a rank draws in is complete there; owned runs cover the cells; unusable triangles are skipped;
 // normals travel only when every rank has them.
+// Pieces of a PLY file (plodPieces.h): each piece equals the rank of the same number; the
+// octree of each piece equals the whole mesh's octree in every cell of level k and finer that
+// the piece owns; pieces sized by the memory limit; every fault removes the temporary files.
 #include "plodOctree.h"
 #include "plodOctreeBuilder.h"
+#include "plodOctreeStorage.h"
+#include "plodPLYRead.h"
+#include "plodPLYSamples.h"
 #include "plodPartition.h"
+#include "plodPieces.h"
 #include "plodScanGenerator.h"
 
 #include <gtest/gtest.h>
@@ -16,11 +23,19 @@
 #include <array>
 #include <cmath>
 #include <condition_variable>
+#include <csignal>
+#include <cstdio>
+#include <dirent.h>
+#include <fstream>
 #include <map>
 #include <mutex>
 #include <random>
 #include <set>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <thread>
+#include <unistd.h>
 
 namespace
 {
@@ -162,8 +177,8 @@ Mesh MakeMesh(bool closed, int subdivisions = 4)
 }
 
 /// Each rank's share of the mesh: its triangles (in a random split), with all points.
-std::vector<plod::PartitionResult> Partition(
-  const Mesh& m, int ranks, unsigned seed, bool normals = true, int level = -1)
+std::vector<plod::PartitionResult> Partition(const Mesh& m, int ranks, unsigned seed,
+  bool normals = true, int level = -1, int ownershipLevel = 2)
 {
   std::mt19937 random(seed);
   std::vector<std::vector<int64_t>> shares(ranks);
@@ -186,7 +201,7 @@ std::vector<plod::PartitionResult> Partition(
       in.NumberOfTriangles = static_cast<int64_t>(shares[r].size() / 3);
       in.Triangles = shares[r].data();
       plod::PartitionParameters p;
-      p.OwnershipLevel = 2;
+      p.OwnershipLevel = ownershipLevel;
       p.RequestedFinestLevel = level;
       results[r] = plod::PartitionMesh(in, p, c);
     });
@@ -446,6 +461,420 @@ TEST(Partition, NoTrianglesAnywhereAndBadLevels)
     EXPECT_FALSE(bad.Ok);
     EXPECT_NE(bad.Error.find("ownership level"), std::string::npos) << bad.Error;
   }
+}
+
+//------------------------------------------------------------------------------
+// Pieces of a PLY file
+
+/// The mesh as a PLY file (binary little endian or ASCII), coordinates float or double,
+/// normals when `normals`; the mesh is then rounded to what the file holds.
+std::string WritePLY(
+  Mesh& m, const std::string& name, plodtest::PLYEncoding enc, const char* type, bool normals)
+{
+  const std::string path = ::testing::TempDir() + name;
+  const int64_t np = static_cast<int64_t>(m.Points.size() / 3);
+  std::string out = std::string("ply\nformat ") + plodtest::PLYFormatWord(enc) +
+    " 1.0\nelement vertex " + std::to_string(np) + "\nproperty " + type + " x\nproperty " + type +
+    " y\nproperty " + type + " z\n";
+  if (normals)
+  {
+    out += "property float nx\nproperty float ny\nproperty float nz\n";
+  }
+  out += "element face " + std::to_string(m.Triangles.size() / 3) +
+    "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (int64_t p = 0; p < np; ++p)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      plodtest::PutPLYValue(out, type, m.Points[3 * p + a], enc);
+    }
+    for (int a = 0; normals && a < 3; ++a)
+    {
+      plodtest::PutPLYValue(out, "float", m.Normals[3 * p + a], enc);
+    }
+    plodtest::EndPLYRow(out, enc);
+  }
+  for (size_t t = 0; t < m.Triangles.size(); t += 3)
+  {
+    plodtest::PutPLYValue(out, "uchar", 3, enc);
+    for (int c = 0; c < 3; ++c)
+    {
+      plodtest::PutPLYValue(out, "int", double(m.Triangles[t + c]), enc);
+    }
+    plodtest::EndPLYRow(out, enc);
+  }
+  std::ofstream(path, std::ios::binary) << out;
+  plod::PLYMesh read;
+  std::string why;
+  EXPECT_TRUE(plod::ReadPLYMesh(path, &read, &why)) << why;
+  for (size_t i = 0; i < m.Points.size(); ++i)
+  {
+    m.Points[i] = read.PointsDouble.empty() ? double(read.PointsFloat[i]) : read.PointsDouble[i];
+  }
+  for (size_t i = 0; normals && i < m.Normals.size(); ++i)
+  {
+    m.Normals[i] = read.Normals[i];
+  }
+  return path;
+}
+
+/// Entries of a directory other than . and .. (-1 when it cannot be read).
+int CountEntries(const std::string& dir)
+{
+  DIR* d = opendir(dir.c_str());
+  if (!d)
+  {
+    return -1;
+  }
+  int n = 0;
+  while (const dirent* e = readdir(d))
+  {
+    n += std::string(e->d_name) != "." && std::string(e->d_name) != "..";
+  }
+  closedir(d);
+  return n;
+}
+
+/// A fresh empty directory for temporary files.
+std::string FreshDirectory(const std::string& name)
+{
+  const std::string dir = ::testing::TempDir() + name;
+  mkdir(dir.c_str(), 0700);
+  EXPECT_EQ(CountEntries(dir), 0) << dir;
+  return dir;
+}
+
+void ExpectSamePiece(const plod::PartitionResult& a, const plod::PartitionResult& b, int p)
+{
+  SCOPED_TRACE("piece " + std::to_string(p));
+  ASSERT_TRUE(a.Ok) << a.Error;
+  ASSERT_TRUE(b.Ok) << b.Error;
+  for (int i = 0; i < 3; ++i)
+  {
+    EXPECT_EQ(a.RootOrigin[i], b.RootOrigin[i]);
+  }
+  EXPECT_EQ(a.RootEdge, b.RootEdge);
+  EXPECT_EQ(a.FinestLevel, b.FinestLevel);
+  EXPECT_EQ(a.NumberOfBoundaryEdges, b.NumberOfBoundaryEdges);
+  EXPECT_EQ(a.NumberOfOwnedCells, b.NumberOfOwnedCells);
+  EXPECT_EQ(a.NumberOfHaloTriangles, b.NumberOfHaloTriangles);
+  EXPECT_EQ(a.HasNormals, b.HasNormals);
+  EXPECT_EQ(a.Points, b.Points);
+  EXPECT_EQ(a.Normals, b.Normals);
+  EXPECT_EQ(a.Ghost, b.Ghost);
+  EXPECT_EQ(a.Triangles, b.Triangles);
+}
+
+/// Splits `path` into `pieces` pieces at ownership level k.
+std::vector<plod::PartitionResult> Pieces(const std::string& path, int pieces, int k,
+  const std::string& tmp, plod::PLYPieces* split = nullptr)
+{
+  plod::PLYPieces local;
+  plod::PLYPieces& s = split ? *split : local;
+  plod::PiecesParameters params;
+  params.OwnershipLevel = k;
+  params.NumberOfPieces = pieces;
+  params.TemporaryDirectory = tmp;
+  std::string why;
+  EXPECT_TRUE(s.Open(path, params, &why)) << why;
+  std::vector<plod::PartitionResult> out(s.GetNumberOfPieces());
+  for (int p = 0; p < s.GetNumberOfPieces(); ++p)
+  {
+    EXPECT_TRUE(s.GetPiece(p, &out[p], &why)) << why;
+  }
+  return out;
+}
+
+TEST(Pieces, EachPieceIsTheRankOfTheSameNumber)
+{
+  const std::string tmp = FreshDirectory("pieces-same");
+  Mesh closed = MakeMesh(true);
+  const std::string binary =
+    WritePLY(closed, "pieces-closed.ply", plodtest::PLYEncoding::Little, "float", true);
+  Mesh open = MakeMesh(false);
+  const std::string ascii =
+    WritePLY(open, "pieces-open.ply", plodtest::PLYEncoding::ASCII, "double", false);
+  for (int pieces : { 1, 3, 5 })
+  {
+    const auto ranks = Partition(closed, pieces, 11);
+    plod::PLYPieces split;
+    const auto file = Pieces(binary, pieces, 2, tmp, &split);
+    ASSERT_EQ(file.size(), size_t(pieces));
+    EXPECT_GT(split.GetPeakTemporaryBytes(), 0);
+    EXPECT_EQ(CountEntries(tmp), 1); // the split's own directory
+    for (int p = 0; p < pieces; ++p)
+    {
+      ExpectSamePiece(file[p], ranks[p], p);
+    }
+  }
+  EXPECT_EQ(CountEntries(tmp), 0) << "temporary files left behind";
+  const auto ranks = Partition(open, 4, 5, false, -1, 3);
+  const auto file = Pieces(ascii, 4, 3, tmp);
+  ASSERT_EQ(file.size(), size_t(4));
+  EXPECT_GT(file[0].NumberOfBoundaryEdges, 0);
+  for (int p = 0; p < 4; ++p)
+  {
+    ExpectSamePiece(file[p], ranks[p], p);
+  }
+}
+
+/// The node of `v` at (level, cell), or -1.
+int64_t FindNode(const plod::OctreeView& v, int level, const int xyz[3])
+{
+  int64_t n = 0;
+  for (int l = 1; l <= level && n >= 0; ++l)
+  {
+    const int shift = level - l;
+    const int c =
+      ((xyz[0] >> shift) & 1) | (((xyz[1] >> shift) & 1) << 1) | (((xyz[2] >> shift) & 1) << 2);
+    n = v.Child(n, c);
+  }
+  return n;
+}
+
+// Built one after the other, the pieces give the whole mesh's octree in every cell of level k
+// and finer that they own: the same vertex, cone, shape error, flags, clusters and points.
+TEST(Pieces, EachPieceBuildsTheWholeOctreeInTheCellsItOwns)
+{
+  const std::string tmp = FreshDirectory("pieces-build");
+  Mesh m = MakeMesh(false, 5);
+  const std::string path =
+    WritePLY(m, "pieces-build.ply", plodtest::PLYEncoding::Little, "float", true);
+  const int k = 2;
+  plod::PLYPieces split;
+  const auto pieces = Pieces(path, 4, k, tmp, &split);
+  ASSERT_EQ(pieces.size(), size_t(4));
+  const plod::PartitionResult& agreed = split.GetAgreement();
+
+  std::vector<float> normals(m.Normals.begin(), m.Normals.end());
+  plod::BuildInput whole;
+  whole.NumberOfPoints = static_cast<int64_t>(m.Points.size() / 3);
+  whole.Points = m.Points.data();
+  whole.NumberOfTriangles = static_cast<int64_t>(m.Triangles.size() / 3);
+  whole.Triangles = m.Triangles.data();
+  whole.PointNormals = normals.data();
+  plod::BuildParameters params;
+  params.FinestLevel = agreed.FinestLevel;
+  params.HasRootCube = true;
+  std::copy(agreed.RootOrigin, agreed.RootOrigin + 3, params.RootOrigin);
+  params.RootEdge = agreed.RootEdge;
+  plod::OctreeStorage wholeStorage;
+  const plod::BuildResult wr = plod::BuildOctree(whole, params, wholeStorage.MakeAllocator());
+  ASSERT_TRUE(wr.Ok) << wr.Error;
+  const plod::OctreeView w = wholeStorage.View(wr);
+
+  int64_t compared = 0, wholeNodes = 0;
+  for (int64_t n = 0; n < w.NumberOfNodes; ++n)
+  {
+    wholeNodes += w.Level[n] >= k;
+  }
+  for (size_t p = 0; p < pieces.size(); ++p)
+  {
+    const plod::PartitionResult& r = pieces[p];
+    std::vector<float> pn(r.Normals.begin(), r.Normals.end());
+    plod::BuildInput in;
+    in.NumberOfPoints = static_cast<int64_t>(r.Ghost.size());
+    in.Points = r.Points.data();
+    in.NumberOfTriangles = static_cast<int64_t>(r.Triangles.size() / 3);
+    in.Triangles = r.Triangles.data();
+    in.PointNormals = pn.data();
+    in.PointGhost = r.Ghost.data();
+    plod::OctreeStorage storage;
+    const plod::BuildResult br = plod::BuildOctree(in, params, storage.MakeAllocator());
+    ASSERT_TRUE(br.Ok) << br.Error;
+    const plod::OctreeView v = storage.View(br);
+    for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+    {
+      // a cell the piece owns: its first point is not a ghost (every point of an owned cell is
+      // owned, every point of another's cell a ghost)
+      if (v.Level[n] < k || v.PointGhost[v.FirstPoint[n]])
+      {
+        continue;
+      }
+      int xyz[3];
+      v.CellCoordinates(n, xyz);
+      const int64_t o = FindNode(w, v.Level[n], xyz);
+      ASSERT_GE(o, 0) << "piece " << p << " has a cell the whole has not";
+      ++compared;
+      EXPECT_EQ(v.PointEnd(n) - v.FirstPoint[n], w.PointEnd(o) - w.FirstPoint[o]);
+      for (int a = 0; a < 3; ++a)
+      {
+        EXPECT_EQ(v.Vertex[3 * n + a], w.Vertex[3 * o + a]) << "node " << n;
+        EXPECT_EQ(v.ConeAxis[3 * n + a], w.ConeAxis[3 * o + a]) << "node " << n;
+      }
+      EXPECT_EQ(v.ConeAngle[n], w.ConeAngle[o]);
+      EXPECT_EQ(v.ShapeError[n], w.ShapeError[o]);
+      EXPECT_EQ(v.Flags[n], w.Flags[o]);
+      EXPECT_EQ(v.Thickness[n], w.Thickness[o]);
+      ASSERT_EQ(v.ClusterEnd(n) - v.FirstCluster[n], w.ClusterEnd(o) - w.FirstCluster[o]);
+      for (int64_t c = 0; c < v.ClusterEnd(n) - v.FirstCluster[n]; ++c)
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          EXPECT_EQ(v.ClusterVertex[3 * (v.FirstCluster[n] + c) + a],
+            w.ClusterVertex[3 * (w.FirstCluster[o] + c) + a]);
+        }
+      }
+      for (int64_t i = 0; i < v.PointEnd(n) - v.FirstPoint[n]; ++i)
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          EXPECT_EQ(
+            v.Points[3 * (v.FirstPoint[n] + i) + a], w.Points[3 * (w.FirstPoint[o] + i) + a]);
+        }
+      }
+    }
+  }
+  EXPECT_EQ(compared, wholeNodes) << "every node of level k and finer is owned by one piece";
+}
+
+TEST(Pieces, SizedByTheMemoryLimit)
+{
+  const std::string tmp = FreshDirectory("pieces-memory");
+  Mesh m = MakeMesh(true, 5);
+  const std::string path =
+    WritePLY(m, "pieces-memory.ply", plodtest::PLYEncoding::Little, "float", true);
+  const double triangles = double(m.Triangles.size() / 3);
+  for (double fraction : { 2.0, 0.3, 0.1 })
+  {
+    plod::PiecesParameters params;
+    params.OwnershipLevel = 4;
+    params.TemporaryDirectory = tmp;
+    params.MemoryLimit = fraction * triangles * plod::PieceBytesPerTriangle(true);
+    plod::PLYPieces split;
+    std::string why;
+    ASSERT_TRUE(split.Open(path, params, &why)) << why;
+    // as many as the first guess (a quarter more for the halo), or more when a piece with
+    // its halo would not fit
+    EXPECT_GE(split.GetNumberOfPieces(), static_cast<int>(std::ceil(1.25 / fraction)))
+      << "fraction " << fraction;
+    EXPECT_EQ(split.GetNumberOfPieces() == 1, fraction >= 1.25);
+    int64_t drawn = 0;
+    for (int p = 0; p < split.GetNumberOfPieces(); ++p)
+    {
+      plod::PartitionResult r;
+      ASSERT_TRUE(split.GetPiece(p, &r, &why)) << why;
+      EXPECT_LE(
+        double(r.Triangles.size() / 3) * plod::PieceBytesPerTriangle(true), params.MemoryLimit)
+        << "piece " << p << " of " << split.GetNumberOfPieces();
+      drawn += static_cast<int64_t>(r.Triangles.size() / 3) - r.NumberOfHaloTriangles;
+    }
+    EXPECT_GE(drawn, static_cast<int64_t>(triangles));
+  }
+  EXPECT_EQ(CountEntries(tmp), 0);
+}
+
+// Faults: the file, the folder, the disk, the caller; each names what was wrong and leaves no
+// temporary file behind.
+TEST(Pieces, FaultsSayWhatWasWrongAndLeaveNoTemporaryFiles)
+{
+  const std::string tmp = FreshDirectory("pieces-faults");
+  Mesh m = MakeMesh(true, 4);
+  const std::string path =
+    WritePLY(m, "pieces-faults.ply", plodtest::PLYEncoding::Little, "float", false);
+  auto refused = [&](const std::string& file, plod::PiecesParameters params,
+                   const std::string& expected) {
+    if (params.TemporaryDirectory.empty())
+    {
+      params.TemporaryDirectory = tmp;
+    }
+    plod::PLYPieces split;
+    std::string why;
+    EXPECT_FALSE(split.Open(file, params, &why));
+    EXPECT_NE(why.find(expected), std::string::npos) << why;
+    EXPECT_EQ(split.GetNumberOfPieces(), 0);
+    EXPECT_EQ(CountEntries(tmp), 0) << "after: " << why;
+    plod::PartitionResult r;
+    EXPECT_FALSE(split.GetPiece(0, &r, &why));
+  };
+  plod::PiecesParameters params;
+  params.NumberOfPieces = 3;
+  params.OwnershipLevel = 2;
+
+  // a file cut inside its faces
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string cut = ::testing::TempDir() + "pieces-cut.ply";
+  std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() - 100);
+  refused(cut, params, "the file ends inside element 'face'");
+  refused(::testing::TempDir() + "pieces-missing.ply", params, "cannot open");
+
+  // more pieces than occupied cells, a bad level, no way to size the pieces
+  plod::PiecesParameters many = params;
+  many.NumberOfPieces = 1000;
+  refused(path, many, "cells of level 2 are occupied");
+  plod::PiecesParameters tiny = params;
+  tiny.NumberOfPieces = 0;
+  tiny.MemoryLimit = 1e4; // a few dozen triangles: not even a cell with its halo
+  refused(path, tiny, "use a deeper ownership level or more memory");
+  plod::PiecesParameters level = params;
+  level.OwnershipLevel = 7;
+  refused(path, level, "ownership level");
+  plod::PiecesParameters sized = params;
+  sized.NumberOfPieces = 0;
+  sized.MemoryLimit = 0;
+  refused(path, sized, "memory limit");
+
+  // an abort from the progress callback, at each step
+  for (const char* step : { "reading the file", "bounds", "cells", "halo", "piece sizes", "pieces",
+         "merging the pieces" })
+  {
+    plod::PiecesParameters abort = params;
+    std::set<std::string> seen;
+    abort.Progress = [&](double f, const char* s) {
+      EXPECT_GE(f, 0.0);
+      EXPECT_LE(f, 1.0);
+      seen.insert(s);
+      return std::string(s) != step;
+    };
+    refused(path, abort, "aborted");
+    EXPECT_EQ(seen.count(step), 1u) << step;
+  }
+
+  // a folder that cannot hold the temporary directory
+  plod::PiecesParameters nowhere = params;
+  nowhere.TemporaryDirectory = path; // a file, not a folder
+  refused(path, nowhere, "cannot make a temporary directory");
+
+  // a full disk: the files may not grow past 64 KB (in a child process, as the limit is
+  // per process); the write that fails is named and the directory removed
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0)
+  {
+    std::signal(SIGXFSZ, SIG_IGN);
+    rlimit limit = { 65536, 65536 };
+    setrlimit(RLIMIT_FSIZE, &limit);
+    plod::PiecesParameters full = params;
+    full.TemporaryDirectory = tmp;
+    plod::PLYPieces split;
+    std::string why;
+    const bool ok = split.Open(path, full, &why);
+    const bool named = why.find("cannot write the temporary file") != std::string::npos;
+    _exit(!ok && named && CountEntries(tmp) == 0 ? 0 : 1);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the full disk was not reported";
+  EXPECT_EQ(CountEntries(tmp), 0);
+
+  // a mesh with a non-finite point: its triangles are skipped and counted
+  Mesh bad = MakeMesh(true, 2);
+  bad.Points[0] = std::nan("");
+  const std::string nan =
+    WritePLY(bad, "pieces-nan.ply", plodtest::PLYEncoding::Little, "float", false);
+  plod::PLYPieces split;
+  const auto pieces = Pieces(nan, 2, 2, tmp, &split);
+  EXPECT_EQ(pieces.size(), 2u);
+  int64_t uses = 0;
+  for (size_t t = 0; t < bad.Triangles.size(); ++t)
+  {
+    uses += bad.Triangles[t] == 0;
+  }
+  EXPECT_EQ(split.GetAgreement().NumberOfSkippedTriangles, uses);
 }
 
 } // namespace
