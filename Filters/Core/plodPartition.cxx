@@ -95,95 +95,157 @@ bool BoxMeets(const Box& box, const uint8_t* mask)
 }
 
 //------------------------------------------------------------------------------
+void MergePoints(const std::vector<double>& points, const std::vector<double>& normals,
+  std::vector<int64_t>& triangles, const CellGrid& cells, const std::vector<int>& owner, int rank,
+  PartitionResult* r)
+{
+  // each point's position on the grid of RootEdge / 2^32, sorted with its position and index
+  struct Item
+  {
+    std::array<int64_t, 3> Key;
+    int64_t Index;
+  };
+  const int64_t n = static_cast<int64_t>(points.size() / 3);
+  const double quantum = std::ldexp(r->RootEdge, -32);
+  std::vector<Item> items(n);
+  for (int64_t i = 0; i < n; ++i)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      items[i].Key[a] = std::llround((points[3 * i + a] - r->RootOrigin[a]) / quantum);
+    }
+    items[i].Index = i;
+  }
+  std::sort(items.begin(), items.end(), [&](const Item& a, const Item& b) {
+    if (a.Key != b.Key)
+    {
+      return a.Key < b.Key;
+    }
+    const double* p = &points[3 * a.Index];
+    const double* q = &points[3 * b.Index];
+    return std::lexicographical_compare(p, p + 3, q, q + 3) ||
+      (std::equal(p, p + 3, q) && a.Index < b.Index);
+  });
+  std::vector<int64_t> merged(n);
+  int64_t kept = 0;
+  for (int64_t i = 0; i < n; ++i)
+  {
+    const double* p = &points[3 * items[i].Index];
+    if (i == 0 || items[i].Key != items[i - 1].Key)
+    {
+      r->Points.insert(r->Points.end(), p, p + 3);
+      if (!normals.empty())
+      {
+        r->Normals.insert(
+          r->Normals.end(), &normals[3 * items[i].Index], &normals[3 * items[i].Index] + 3);
+      }
+      r->Ghost.push_back(owner[cells.CellOf(p)] != rank ? 1 : 0);
+      ++kept;
+    }
+    merged[items[i].Index] = kept - 1;
+  }
+  std::vector<Item>().swap(items);
+  // triangles in lexicographic order of their merged corners: bucketed by the first corner,
+  // then each bucket (a few triangles) sorted by the other two
+  const int64_t nt = static_cast<int64_t>(triangles.size() / 3);
+  std::vector<int64_t> start(kept + 1, 0);
+  for (int64_t t = 0; t < nt; ++t)
+  {
+    ++start[merged[triangles[3 * t]] + 1];
+  }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<std::array<int64_t, 2>> rest(nt);
+  {
+    std::vector<int64_t> fill(start.begin(), start.end() - 1);
+    for (int64_t t = 0; t < nt; ++t)
+    {
+      rest[fill[merged[triangles[3 * t]]]++] = { merged[triangles[3 * t + 1]],
+        merged[triangles[3 * t + 2]] };
+    }
+  }
+  std::vector<int64_t>().swap(triangles);
+  std::vector<int64_t>().swap(merged);
+  r->Triangles.resize(3 * nt);
+  for (int64_t first = 0; first < kept; ++first)
+  {
+    std::sort(rest.begin() + start[first], rest.begin() + start[first + 1]);
+    for (int64_t t = start[first]; t < start[first + 1]; ++t)
+    {
+      int64_t* out = &r->Triangles[3 * t];
+      out[0] = first;
+      out[1] = rest[t][0];
+      out[2] = rest[t][1];
+      r->NumberOfHaloTriangles += r->Ghost[first] && r->Ghost[out[1]] && r->Ghost[out[2]];
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
 void MergeCorners(std::vector<double>& soup, bool hasNormals, const CellGrid& cells,
   const std::vector<int>& owner, int rank, PartitionResult* r)
 {
   const int stride = 9 * (hasNormals ? 2 : 1);
-  const int64_t n = static_cast<int64_t>(soup.size()) / stride;
-  std::vector<int64_t> corner(3 * n);
-  std::iota(corner.begin(), corner.end(), 0);
-  auto position = [&](int64_t c) { return soup.data() + (c / 3) * stride + (c % 3) * 3; };
-  const double quantum = std::ldexp(r->RootEdge, -32);
-  std::vector<std::array<int64_t, 3>> key(3 * n);
-  for (int64_t c = 0; c < 3 * n; ++c)
+  const size_t n = soup.size() / stride;
+  std::vector<double> points(9 * n), normals(hasNormals ? 9 * n : 0);
+  std::vector<int64_t> triangles(3 * n);
+  for (size_t t = 0; t < n; ++t)
   {
-    const double* p = position(c);
-    for (int a = 0; a < 3; ++a)
+    std::copy(&soup[t * stride], &soup[t * stride] + 9, &points[9 * t]);
+    if (hasNormals)
     {
-      key[c][a] = std::llround((p[a] - r->RootOrigin[a]) / quantum);
+      std::copy(&soup[t * stride] + 9, &soup[t * stride] + 18, &normals[9 * t]);
     }
   }
-  std::sort(corner.begin(), corner.end(), [&](int64_t a, int64_t b) {
-    if (key[a] != key[b])
-    {
-      return key[a] < key[b];
-    }
-    const double* p = position(a);
-    const double* q = position(b);
-    return std::lexicographical_compare(p, p + 3, q, q + 3) || (std::equal(p, p + 3, q) && a < b);
-  });
-  std::vector<int64_t> pointOf(3 * n);
-  int64_t points = 0;
-  for (size_t i = 0; i < corner.size(); ++i)
-  {
-    const double* p = position(corner[i]);
-    if (i == 0 || key[corner[i]] != key[corner[i - 1]])
-    {
-      r->Points.insert(r->Points.end(), p, p + 3);
-      if (hasNormals)
-      {
-        r->Normals.insert(r->Normals.end(), p + 9, p + 12);
-      }
-      r->Ghost.push_back(owner[cells.CellOf(p)] != rank ? 1 : 0);
-      ++points;
-    }
-    pointOf[corner[i]] = points - 1;
-  }
-  std::vector<std::array<int64_t, 3>> triangles(n);
-  for (int64_t t = 0; t < n; ++t)
-  {
-    triangles[t] = { pointOf[3 * t], pointOf[3 * t + 1], pointOf[3 * t + 2] };
-  }
-  std::sort(triangles.begin(), triangles.end());
-  r->Triangles.reserve(3 * n);
-  for (const auto& t : triangles)
-  {
-    r->Triangles.insert(r->Triangles.end(), t.begin(), t.end());
-    r->NumberOfHaloTriangles += r->Ghost[t[0]] && r->Ghost[t[1]] && r->Ghost[t[2]];
-  }
+  std::iota(triangles.begin(), triangles.end(), int64_t(0));
   std::vector<double>().swap(soup);
+  MergePoints(points, normals, triangles, cells, owner, rank, r);
 }
 
 //------------------------------------------------------------------------------
 int64_t CountOpenEdges(const PartitionResult& r)
 {
+  // the uses of each edge with an owned end, bucketed by the lower end: (higher end, 1 when
+  // downward) pairs, each bucket then sorted (a few uses)
   const std::vector<int64_t>& tri = r.Triangles;
   const std::vector<uint8_t>& ghost = r.Ghost;
-  std::vector<std::tuple<int64_t, int64_t, int>> edges; // (lower, higher, 1 when downward)
-  edges.reserve(tri.size());
-  for (size_t t = 0; t < tri.size(); t += 3)
-  {
-    for (int e = 0; e < 3; ++e)
+  const int64_t np = static_cast<int64_t>(ghost.size());
+  auto forEachUse = [&](auto&& body) {
+    for (size_t t = 0; t < tri.size(); t += 3)
     {
-      const int64_t a = tri[t + e], b = tri[t + (e + 1) % 3];
-      if (!ghost[a] || !ghost[b])
+      for (int e = 0; e < 3; ++e)
       {
-        edges.emplace_back(std::min(a, b), std::max(a, b), a > b ? 1 : 0);
+        const int64_t a = tri[t + e], b = tri[t + (e + 1) % 3];
+        if (!ghost[a] || !ghost[b])
+        {
+          body(std::min(a, b), std::max(a, b), a > b ? 1 : 0);
+        }
       }
     }
-  }
-  std::sort(edges.begin(), edges.end());
-  int64_t open = 0;
-  for (size_t i = 0; i < edges.size();)
+  };
+  std::vector<int64_t> start(np + 1, 0);
+  forEachUse([&](int64_t lower, int64_t, int) { ++start[lower + 1]; });
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<std::pair<int64_t, int>> uses(start[np]);
   {
-    size_t j = i + 1;
-    while (j < edges.size() && std::get<0>(edges[j]) == std::get<0>(edges[i]) &&
-      std::get<1>(edges[j]) == std::get<1>(edges[i]))
+    std::vector<int64_t> fill(start.begin(), start.end() - 1);
+    forEachUse([&](int64_t lower, int64_t higher, int down) {
+      uses[fill[lower]++] = { higher, down };
+    });
+  }
+  int64_t open = 0;
+  for (int64_t p = 0; p < np; ++p)
+  {
+    std::sort(uses.begin() + start[p], uses.begin() + start[p + 1]);
+    for (int64_t i = start[p]; i < start[p + 1];)
     {
-      ++j;
+      int64_t j = i + 1;
+      while (j < start[p + 1] && uses[j].first == uses[i].first)
+      {
+        ++j;
+      }
+      open += (j - i == 1) || (j - i == 2 && uses[i].second == uses[i + 1].second);
+      i = j;
     }
-    open += (j - i == 1) || (j - i == 2 && std::get<2>(edges[i]) == std::get<2>(edges[i + 1]));
-    i = j;
   }
   return open;
 }

@@ -80,11 +80,23 @@ void MarkNeededCells(const Box& box, const std::vector<int>& owner, int64_t cell
 bool BoxMeets(const Box& box, const uint8_t* mask);
 
 /**
+ * A piece's points (3 doubles each, with 3 normal components each when `normals` is not
+ * empty) and its triangles (3 indices into them each), made into `r`'s points, normals, ghost
+ * flags and triangles: points closer than RootEdge / 2^32 on every axis merged (the first in
+ * the order of their position, then of their index, stands for the others), points and
+ * triangles in canonical order (by position), a point flagged as a ghost when another rank
+ * owns its cell. Releases `triangles`.
+ */
+void MergePoints(const std::vector<double>& points, const std::vector<double>& normals,
+  std::vector<int64_t>& triangles, const CellGrid& cells, const std::vector<int>& owner, int rank,
+  PartitionResult* r);
+
+/**
  * A piece's triangles, received as a soup (per triangle: 3 corners x 3 doubles, then 3 normals
  * x 3 doubles when `hasNormals`), made into `r`'s points, normals, ghost flags and triangles:
  * points closer than RootEdge / 2^32 on every axis merged, points and triangles in canonical
- * order (by position), a point flagged as a ghost when another rank owns its cell. Releases
- * the soup.
+ * order (by position), a point flagged as a ghost when another rank owns its cell: MergePoints
+ * over the corners. Releases the soup.
  */
 void MergeCorners(std::vector<double>& soup, bool hasNormals, const CellGrid& cells,
   const std::vector<int>& owner, int rank, PartitionResult* r);

@@ -17,6 +17,7 @@
 #include <dirent.h>
 #include <fcntl.h>
 #include <limits>
+#include <numeric>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -268,18 +269,58 @@ public:
   bool HasNormals = false;
 };
 
+/**
+ * The distinct values of `ids` in increasing order (`used`), and for each entry of `ids` its
+ * index in `used` (`local`): a radix sort of (id, position) pairs, in linear time.
+ */
+void NumberUsedPoints(
+  const std::vector<uint32_t>& ids, std::vector<uint32_t>* used, std::vector<int64_t>* local)
+{
+  const size_t n = ids.size();
+  std::vector<uint64_t> pairs(n), other(n);
+  for (size_t i = 0; i < n; ++i)
+  {
+    pairs[i] = uint64_t(ids[i]) << 32 | uint64_t(i);
+  }
+  // by the id (the upper 32 bits), 11 bits at a time, stable
+  for (int shift = 32; shift < 64; shift += 11)
+  {
+    std::vector<size_t> count(2049, 0);
+    for (uint64_t v : pairs)
+    {
+      ++count[((v >> shift) & 2047) + 1];
+    }
+    std::partial_sum(count.begin(), count.end(), count.begin());
+    for (uint64_t v : pairs)
+    {
+      other[count[(v >> shift) & 2047]++] = v;
+    }
+    pairs.swap(other);
+  }
+  used->clear();
+  for (size_t i = 0; i < n; ++i)
+  {
+    const uint32_t id = static_cast<uint32_t>(pairs[i] >> 32);
+    if (i == 0 || id != used->back())
+    {
+      used->push_back(id);
+    }
+    (*local)[pairs[i] & 0xffffffffu] = static_cast<int64_t>(used->size()) - 1;
+  }
+}
+
 } // namespace
 
 //------------------------------------------------------------------------------
 double PieceBytesPerTriangle(bool normals)
 {
-  // MergeCorners at its peak, per triangle received: the soup (3 corners x 3 doubles, as many
-  // again for normals), a key (3 x int64) and a corner and a point index per corner, the
-  // triangles sorted and kept (2 x 3 x int64), half a point kept (position, normal, ghost flag)
-  const double soup = 72.0 * (normals ? 2.0 : 1.0);
-  const double corners = 3.0 * (24.0 + 8.0 + 8.0);
-  const double kept = 48.0 + 0.5 * (24.0 + (normals ? 24.0 : 0.0) + 1.0);
-  const double merge = soup + corners + kept;
+  // MergePoints at its peak, per triangle received (about half a point each): the triangles'
+  // indices (3 x int64, then sorted: as many again), half a point read (position and normal as
+  // doubles), sorted (a key of 3 x int64 and an index) and mapped (an int64), half a point kept
+  // (position, normal, ghost flag), the triangles kept (3 x int64)
+  const double point = 24.0 + (normals ? 24.0 : 0.0);
+  const double kept = 24.0 + 0.5 * (point + 1.0);
+  const double merge = 48.0 + 0.5 * (point + 32.0 + 8.0) + kept;
   // the build of the piece: its octree and work arrays, beside the piece it reads
   const double build = EstimateBuildMemory(1, 1, 1, false) + kept;
   return std::max(merge, build);
@@ -727,24 +768,30 @@ struct PLYPieces::Internals
       return false;
     }
     this->RemoveFile(path);
-    const bool normals = this->Agreed.HasNormals;
-    std::vector<double> soup(ids.size() * 3 * (normals ? 2 : 1));
-    double* out = soup.data();
-    for (size_t t = 0; t < ids.size(); t += 3)
+    if (ids.size() >= (size_t(1) << 32))
     {
-      for (int c = 0; c < 3; ++c, out += 3)
+      return this->Fail("piece " + std::to_string(p) + " has more than 2^32 corners");
+    }
+    // the points the piece uses, in the order of their index in the file, and each corner's
+    // index among them
+    std::vector<uint32_t> used;
+    std::vector<int64_t> triangles(ids.size());
+    NumberUsedPoints(ids, &used, &triangles);
+    const bool hasNormals = this->Agreed.HasNormals;
+    std::vector<double> points(3 * used.size()), normals(hasNormals ? 3 * used.size() : 0);
+    for (size_t i = 0; i < used.size(); ++i)
+    {
+      this->Position(used[i], &points[3 * i]);
+      if (hasNormals)
       {
-        this->Position(ids[t + c], out);
-      }
-      for (int c = 0; normals && c < 3; ++c, out += 3)
-      {
-        this->Normal(ids[t + c], out);
+        this->Normal(used[i], &normals[3 * i]);
       }
     }
     std::vector<uint32_t>().swap(ids);
+    std::vector<uint32_t>().swap(used);
     this->PointMap.Release();
     this->NormalMap.Release();
-    partition::MergeCorners(soup, normals, this->Cells, this->Owner, p, r);
+    partition::MergePoints(points, normals, triangles, this->Cells, this->Owner, p, r);
     return true;
   }
 
@@ -880,6 +927,13 @@ bool PLYPieces::GetPiece(int p, PartitionResult* piece, std::string* why) const
     *why = message;
   }
   return false;
+}
+
+//------------------------------------------------------------------------------
+int64_t PLYPieces::GetNumberOfUsableTriangles() const
+{
+  const Internals& s = *this->Internal;
+  return s.Agreed.Ok ? s.NumberOfTriangles - s.Agreed.NumberOfSkippedTriangles : 0;
 }
 
 //------------------------------------------------------------------------------

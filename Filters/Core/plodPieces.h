@@ -19,9 +19,13 @@
  *    (a non-finite corner is skipped and counted), the root cube, triangles per level-k cell,
  *    the owners, the cells each piece needs whole;
  * 3. each triangle's indices appended to the file of every piece that needs it;
- * 4. each piece merged (plod::partition::MergeCorners) and kept in its own file, its owned
+ * 4. each piece merged (plod::partition::MergePoints over the points it uses) and kept in its
+ *    own file, its owned
  *    cells and open edges counted, so that all pieces agree on the finest level and on whether
  *    the whole is closed before any is built.
+ * Where two points of the file have the same position to the last bit, the merge keeps the
+ * normal of the one first in the file, a process the one it received first: only then can a
+ * piece's normal differ from a rank's.
  * The point file's mapped pages are let go after each pass, so the resident memory stays that
  * of one piece however large the file. Temporary files live in a directory of their own,
  * removed with the object (and when Open fails).
@@ -44,8 +48,9 @@ namespace plod
 
 struct PiecesParameters
 {
-  /// k, the level whose cells are shared out, 1 to 6.
-  int OwnershipLevel = 4;
+  /// k, the level whose cells are shared out, 1 to 6. The halo is one level-k cell wide around
+  /// each piece, so a deeper level sends fewer triangles to more than one piece.
+  int OwnershipLevel = 6;
   /// Negative: the builder's automatic level of the whole mesh.
   int RequestedFinestLevel = -1;
   /// Pieces wanted; 0: as few as let each piece's partition and build fit MemoryLimit.
@@ -89,6 +94,9 @@ public:
   /// Piece p (0 <= p < GetNumberOfPieces()), as PartitionMesh gives rank p. False with the
   /// reason when its temporary file cannot be read back.
   bool GetPiece(int p, PartitionResult* piece, std::string* why) const;
+
+  /// Triangles of the file that every piece's build shares out (the file's, less the unusable).
+  int64_t GetNumberOfUsableTriangles() const;
 
   /// The most bytes the temporary files held at once.
   int64_t GetPeakTemporaryBytes() const;
