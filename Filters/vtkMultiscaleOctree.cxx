@@ -96,6 +96,7 @@ void vtkMultiscaleOctree::Initialize()
   this->RootEdge = 1.0;
   this->FinestLevel = 0;
   this->HasMaterialArrays = false;
+  this->CoarsestDrawnLevel = 0;
   this->NumberOfBoundaryEdges = 0;
   this->NumberOfNonManifoldEdges = 0;
   this->NumberOfMisorientedEdges = 0;
@@ -115,6 +116,7 @@ void vtkMultiscaleOctree::ShallowCopy(vtkDataObject* src)
     this->RootEdge = o->RootEdge;
     this->FinestLevel = o->FinestLevel;
     this->HasMaterialArrays = o->HasMaterialArrays;
+    this->CoarsestDrawnLevel = o->CoarsestDrawnLevel;
     this->NumberOfBoundaryEdges = o->NumberOfBoundaryEdges;
     this->NumberOfNonManifoldEdges = o->NumberOfNonManifoldEdges;
     this->NumberOfMisorientedEdges = o->NumberOfMisorientedEdges;
@@ -143,6 +145,7 @@ void vtkMultiscaleOctree::DeepCopy(vtkDataObject* src)
     this->RootEdge = o->RootEdge;
     this->FinestLevel = o->FinestLevel;
     this->HasMaterialArrays = o->HasMaterialArrays;
+    this->CoarsestDrawnLevel = o->CoarsestDrawnLevel;
     this->NumberOfBoundaryEdges = o->NumberOfBoundaryEdges;
     this->NumberOfNonManifoldEdges = o->NumberOfNonManifoldEdges;
     this->NumberOfMisorientedEdges = o->NumberOfMisorientedEdges;
@@ -677,6 +680,7 @@ void vtkMultiscaleOctree::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RootEdge: " << this->RootEdge << "\n";
   os << indent << "FinestLevel: " << this->FinestLevel << "\n";
   os << indent << "HasMaterialArrays: " << (this->HasMaterialArrays ? "On" : "Off") << "\n";
+  os << indent << "CoarsestDrawnLevel: " << this->CoarsestDrawnLevel << "\n";
   os << indent << "NumberOfBoundaryEdges: " << this->NumberOfBoundaryEdges << "\n";
   os << indent << "NumberOfNonManifoldEdges: " << this->NumberOfNonManifoldEdges << "\n";
   os << indent << "NumberOfMisorientedEdges: " << this->NumberOfMisorientedEdges << "\n";

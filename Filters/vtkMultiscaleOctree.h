@@ -137,6 +137,15 @@ public:
   vtkGetMacro(HasMaterialArrays, bool);
   vtkSetMacro(HasMaterialArrays, bool);
 
+  /**
+   * Levels coarser than this hold the tree's structure only, not surfaces to draw: an octree
+   * assembled from pieces built one after the other (plodPieceAssembly.h) has no vertices or
+   * cones above the pieces' level. vtkPerceptualLODSelector refines them at once (as its
+   * MinimumLevel does). Default 0: every level is drawn.
+   */
+  vtkGetMacro(CoarsestDrawnLevel, int);
+  vtkSetClampMacro(CoarsestDrawnLevel, int, 0, 21);
+
   ///@{
   /**
    * Edges of the surface used by one triangle only (its boundary; 0 for a closed surface), and
@@ -331,6 +340,7 @@ protected:
   double RootEdge;
   int FinestLevel;
   bool HasMaterialArrays;
+  int CoarsestDrawnLevel = 0;
   vtkIdType NumberOfBoundaryEdges = 0;
   vtkIdType NumberOfNonManifoldEdges = 0;
   vtkIdType NumberOfMisorientedEdges = 0;

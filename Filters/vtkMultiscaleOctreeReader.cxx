@@ -138,6 +138,7 @@ int vtkMultiscaleOctreeReader::RequestData(
   }
   output->SetGeometry(h.Origin, h.RootEdge, h.FinestLevel);
   output->SetHasMaterialArrays(h.HasMaterialArrays);
+  output->SetCoarsestDrawnLevel(h.CoarsestDrawnLevel);
   output->SetNumberOfBoundaryEdges(h.BoundaryEdges);
   output->SetNumberOfNonManifoldEdges(h.NonManifoldEdges);
   output->SetNumberOfMisorientedEdges(h.MisorientedEdges);

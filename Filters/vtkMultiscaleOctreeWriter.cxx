@@ -78,6 +78,7 @@ void vtkMultiscaleOctreeWriter::WriteData()
   header.RootEdge = octree->GetRootEdge();
   header.FinestLevel = octree->GetFinestLevel();
   header.HasMaterialArrays = octree->GetHasMaterialArrays();
+  header.CoarsestDrawnLevel = octree->GetCoarsestDrawnLevel();
   header.BoundaryEdges = octree->GetNumberOfBoundaryEdges();
   header.NonManifoldEdges = octree->GetNumberOfNonManifoldEdges();
   header.MisorientedEdges = octree->GetNumberOfMisorientedEdges();

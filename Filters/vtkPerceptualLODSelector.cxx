@@ -345,7 +345,7 @@ std::string vtkPerceptualLODSelector::MakeSelectionInput(
   in.ContourTolerance = this->ContourTolerance;
   in.BrightnessTolerance = this->BrightnessTolerance;
   in.TopologyTolerance = this->TopologyTolerance;
-  in.MinimumLevel = this->MinimumLevel;
+  in.MinimumLevel = std::max(this->MinimumLevel, input->GetCoarsestDrawnLevel());
   in.TriangleBudget = this->TriangleBudget;
   in.BudgetStop = static_cast<plod::BudgetStopRule>(this->BudgetStopRule);
   in.ExactBudget = this->ExactTriangleBudget;

@@ -277,6 +277,8 @@ public:
    * cell of a level below it is refined without any test but the frustum's: it is never
    * accepted, never hidden as back-facing, and culled only when its box lies wholly outside a
    * frustum plane. A leaf coarser than it is opened. Default 0 (no effect), clamped to [0, 21].
+   * The input's vtkMultiscaleOctree::GetCoarsestDrawnLevel (an octree assembled from pieces)
+   * raises it for that octree.
    * Every process must also use the whole's back-face mode, set explicitly (BACK_FACES_HIDDEN
    * for a closed whole): the automatic mode looks at each process's piece, which is open, and
    * would draw back faces the whole hides. See vtkMultiscaleOctreeBuilder for the rest of the

@@ -227,6 +227,12 @@ bool EncodeHeader(const OctreeFileHeader& header, const std::vector<FileArray>& 
   {
     return Fail(error, "too many arrays (" + std::to_string(arrays.size()) + ")");
   }
+  if (header.CoarsestDrawnLevel < 0 || header.CoarsestDrawnLevel > header.FinestLevel)
+  {
+    return Fail(error,
+      "the coarsest drawn level " + std::to_string(header.CoarsestDrawnLevel) +
+        " is not in [0, the finest level " + std::to_string(header.FinestLevel) + "]");
+  }
   const size_t headerSize = HeaderBytes + EntryBytes * arrays.size();
   head.assign(headerSize, 0);
   offset.assign(arrays.size(), 0);
@@ -283,7 +289,8 @@ bool EncodeHeader(const OctreeFileHeader& header, const std::vector<FileArray>& 
   }
   Put<double>(head.data() + 48, header.RootEdge);
   Put<int32_t>(head.data() + 56, header.FinestLevel);
-  Put<uint32_t>(head.data() + 60, header.HasMaterialArrays ? 1u : 0u);
+  Put<uint32_t>(head.data() + 60,
+    (header.HasMaterialArrays ? 1u : 0u) | (static_cast<uint32_t>(header.CoarsestDrawnLevel) << 8));
   const int64_t counts[6] = { header.Nodes, header.Points, header.Triangles, header.Clusters,
     header.BoundaryEdges, header.NonManifoldEdges };
   for (int k = 0; k < 6; ++k)
@@ -692,6 +699,7 @@ std::string ReadHeader(
   h.RootEdge = Get<double>(bytes + 48);
   h.FinestLevel = Get<int32_t>(bytes + 56);
   h.HasMaterialArrays = (Get<uint32_t>(bytes + 60) & 1u) != 0;
+  h.CoarsestDrawnLevel = static_cast<int32_t>((Get<uint32_t>(bytes + 60) >> 8) & 0xffu);
   int64_t* counts[6] = { &h.Nodes, &h.Points, &h.Triangles, &h.Clusters, &h.BoundaryEdges,
     &h.NonManifoldEdges };
   for (int k = 0; k < 6; ++k)
@@ -702,9 +710,10 @@ std::string ReadHeader(
   const int64_t maxIndex = std::numeric_limits<int32_t>::max();
   if (!(std::isfinite(h.Origin[0]) && std::isfinite(h.Origin[1]) && std::isfinite(h.Origin[2]) &&
         std::isfinite(h.RootEdge) && h.RootEdge > 0) ||
-    h.FinestLevel < 0 || h.FinestLevel > 21 || h.Nodes < 0 || h.Nodes > maxIndex || h.Points < 0 ||
-    h.Points > maxIndex || h.Triangles < 0 || h.Triangles > maxIndex || h.Clusters < 0 ||
-    h.Clusters > maxIndex || h.BoundaryEdges < 0 || h.NonManifoldEdges < 0)
+    h.FinestLevel < 0 || h.FinestLevel > 21 || h.CoarsestDrawnLevel > h.FinestLevel ||
+    h.Nodes < 0 || h.Nodes > maxIndex || h.Points < 0 || h.Points > maxIndex || h.Triangles < 0 ||
+    h.Triangles > maxIndex || h.Clusters < 0 || h.Clusters > maxIndex || h.BoundaryEdges < 0 ||
+    h.NonManifoldEdges < 0)
   {
     return "corrupt header (root cube, level or counts out of range)";
   }

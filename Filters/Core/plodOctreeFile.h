@@ -17,14 +17,14 @@
  * | 24 | 24 | origin (3 doubles) |
  * | 48 | 8 | root edge (double) |
  * | 56 | 4 | finest level (int32) |
- * | 60 | 4 | flags (bit 0: material ranges come from input arrays) |
- * | 64 | 48 | nodes, points, triangles, clusters, boundary edges, non-manifold edges (int64) |
- * | 112 | 8 | file size in bytes |
- * | 120 | 4 | checksum of the header and directory (this field counted as 0) |
- * | 124 | 4 | misoriented edges (uint32, saturated at 2^32 - 1; 0 in files that predate it) |
- * | 128 | 64 each | directory: name (32 bytes, NUL-padded), group (1: 0 node, 1 cluster, 2 surface
- * point, 3 surface triangle), type (1: uint8, 2: int32, 3: float32, 4: int64), components (uint16),
- * reserved (4), tuples (int64), offset (uint64), checksum of the data (uint64) |
+ * | 60 | 4 | flags (bit 0: material ranges come from input arrays; bits 8-15: the coarsest level
+ * drawn, 0 in files before) | | 64 | 48 | nodes, points, triangles, clusters, boundary edges,
+ * non-manifold edges (int64) | | 112 | 8 | file size in bytes | | 120 | 4 | checksum of the header
+ * and directory (this field counted as 0) | | 124 | 4 | misoriented edges (uint32, saturated at
+ * 2^32 - 1; 0 in files that predate it) | | 128 | 64 each | directory: name (32 bytes, NUL-padded),
+ * group (1: 0 node, 1 cluster, 2 surface point, 3 surface triangle), type (1: uint8, 2: int32, 3:
+ * float32, 4: int64), components (uint16), reserved (4), tuples (int64), offset (uint64), checksum
+ * of the data (uint64) |
  *
  * Each array's data starts at a multiple of 4096 bytes (so that it can be mapped in place) and
  * holds tuples x components values. The checksums are 64-bit FNV-1a over 8-byte words (the
@@ -63,6 +63,10 @@ struct OctreeFileHeader
   int64_t Nodes = 0, Points = 0, Triangles = 0, Clusters = 0;
   int64_t BoundaryEdges = 0, NonManifoldEdges = 0;
   int64_t MisorientedEdges = 0; // stored as a 32-bit count, saturated (files before: 0)
+  /// Levels coarser than this hold the tree's structure only, not surfaces to draw (an octree
+  /// assembled from pieces, plodPieceAssembly.h): a selector refines them at once. 0: every
+  /// level is drawn (files before: 0).
+  int32_t CoarsestDrawnLevel = 0;
 };
 
 /// The value types and groups of the file's arrays are the schema's (plodOctreeSchema.h).

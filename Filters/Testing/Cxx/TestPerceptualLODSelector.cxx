@@ -36,6 +36,7 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <unistd.h>
@@ -1312,6 +1313,40 @@ TEST(PerceptualLODSelector, MinimumLevelRefinesEveryCoarserCellButCulledOnes)
   std::ostringstream text;
   p.Selector->PrintSelf(text, vtkIndent());
   EXPECT_NE(text.str().find("MinimumLevel: 21"), std::string::npos);
+}
+
+TEST(PerceptualLODSelector, OctreesCoarsestDrawnLevelActsAsTheMinimumLevel)
+{
+  // An octree assembled from pieces holds only structure above its coarsest drawn level: the
+  // selector refines those levels as MinimumLevel does, and the larger of the two applies.
+  Pipeline p(plodtest::MakeBlob(8, 40, 0.3), 6);
+  p.Selector->SetContourTolerance(4);
+  const double eye[3] = { -4, 1, 6 }, focus[3] = { 0.6, 0.2, 0 };
+  p.Look(eye, focus);
+  std::map<int, std::vector<uint8_t>> byMinimum;
+  for (int m : { 0, 3, 5 })
+  {
+    p.Selector->SetMinimumLevel(m);
+    byMinimum[m] = p.Array(vtkMultiscaleOctree::CutStateArrayName());
+  }
+  ASSERT_NE(byMinimum[0], byMinimum[3]);
+  ASSERT_NE(byMinimum[3], byMinimum[5]);
+  vtkNew<vtkMultiscaleOctree> assembled;
+  assembled->ShallowCopy(p.Builder->GetOutput());
+  assembled->SetCoarsestDrawnLevel(3);
+  p.Selector->SetInputData(assembled);
+  p.Selector->SetMinimumLevel(0);
+  EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), byMinimum[3]);
+  p.Selector->SetMinimumLevel(5); // the larger applies
+  EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), byMinimum[5]);
+  p.Selector->SetMinimumLevel(1);
+  EXPECT_EQ(p.Array(vtkMultiscaleOctree::CutStateArrayName()), byMinimum[3]);
+  // copies keep it; clamped to [0, 21]
+  vtkNew<vtkMultiscaleOctree> copy;
+  copy->DeepCopy(assembled);
+  EXPECT_EQ(copy->GetCoarsestDrawnLevel(), 3);
+  copy->SetCoarsestDrawnLevel(30);
+  EXPECT_EQ(copy->GetCoarsestDrawnLevel(), 21);
 }
 
 // ---- triangle budget on real octrees -----------------------------------------------------------
