@@ -199,10 +199,12 @@ int FileTypeSize(FileArrayType type)
   return ArrayTypeSize(type);
 }
 
-uint64_t FileChecksum(const void* data, size_t bytes)
+namespace
+{
+/// FileChecksum continued over `bytes` more (every earlier part a multiple of 8 bytes).
+uint64_t ContinueChecksum(uint64_t h, const void* data, size_t bytes)
 {
   const unsigned char* p = static_cast<const unsigned char*>(data);
-  uint64_t h = FnvOffset;
   size_t i = 0;
   for (; i + 8 <= bytes; i += 8)
   {
@@ -215,8 +217,54 @@ uint64_t FileChecksum(const void* data, size_t bytes)
   return h;
 }
 
-namespace
+/// Bytes of an array's data in the file.
+uint64_t DataBytes(const FileArray& f)
 {
+  return uint64_t(f.Tuples) * uint64_t(f.Components) * uint64_t(FileTypeSize(f.Type));
+}
+
+/// Calls body(bytes, n) over the array's data in file order (little-endian): in place when it
+/// is in memory and the host is little-endian, else through a buffer of at most 1 MiB (a
+/// multiple of 8 bytes, so that checksums continue). False with `why` when the array's Values
+/// or the body fail.
+bool ForEachChunk(const FileArray& f, std::string* why,
+  const std::function<bool(const unsigned char*, size_t)>& body)
+{
+  const int size = FileTypeSize(f.Type);
+  const uint64_t bytes = DataBytes(f);
+  const unsigned char* data = static_cast<const unsigned char*>(f.Data);
+  if (data && (HostIsLittleEndian() || size == 1))
+  {
+    return body(data, static_cast<size_t>(bytes));
+  }
+  const uint64_t valuesPerChunk = (uint64_t(1) << 20) / 8 / uint64_t(size) * 8;
+  std::vector<unsigned char> chunk;
+  const uint64_t values = bytes / uint64_t(size);
+  for (uint64_t first = 0; first < values; first += valuesPerChunk)
+  {
+    const uint64_t n = std::min(valuesPerChunk, values - first);
+    chunk.resize(static_cast<size_t>(n * uint64_t(size)));
+    if (data)
+    {
+      std::memcpy(chunk.data(), data + first * uint64_t(size), chunk.size());
+    }
+    else if (!f.Values(static_cast<int64_t>(first), static_cast<int64_t>(n), chunk.data(), why))
+    {
+      *why = "cannot make the array '" + f.Name + "': " + *why;
+      return false;
+    }
+    if (!HostIsLittleEndian())
+    {
+      SwapValues(chunk.data(), chunk.size(), size);
+    }
+    if (!body(chunk.data(), chunk.size()))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 /// The header and directory of a file holding `arrays`, each array's offset, and the file's
 /// size; false with `error` when an array cannot be written.
 bool EncodeHeader(const OctreeFileHeader& header, const std::vector<FileArray>& arrays,
@@ -242,7 +290,7 @@ bool EncodeHeader(const OctreeFileHeader& header, const std::vector<FileArray>& 
     const FileArray& f = arrays[a];
     const int size = FileTypeSize(f.Type);
     if (f.Name.empty() || f.Name.size() >= NameBytes || size == 0 || f.Components < 1 ||
-      f.Components > 65535 || f.Tuples < 0 || (f.Tuples > 0 && !f.Data))
+      f.Components > 65535 || f.Tuples < 0 || (f.Tuples > 0 && !f.Data && !f.Values))
     {
       return Fail(error, "array " + std::to_string(a) + " ('" + f.Name + "') cannot be written");
     }
@@ -256,17 +304,14 @@ bool EncodeHeader(const OctreeFileHeader& header, const std::vector<FileArray>& 
     Put<uint16_t>(e + 34, static_cast<uint16_t>(f.Components));
     Put<int64_t>(e + 40, f.Tuples);
     Put<uint64_t>(e + 48, offset[a]);
-    uint64_t sum = 0;
-    if (HostIsLittleEndian() || size == 1)
+    uint64_t sum = FnvOffset;
+    std::string why;
+    if (!ForEachChunk(f, &why, [&sum](const unsigned char* p, size_t n) {
+          sum = ContinueChecksum(sum, p, n);
+          return true;
+        }))
     {
-      sum = FileChecksum(f.Data, bytes);
-    }
-    else
-    {
-      std::vector<unsigned char> copy(static_cast<const unsigned char*>(f.Data),
-        static_cast<const unsigned char*>(f.Data) + bytes);
-      SwapValues(copy.data(), bytes, size);
-      sum = FileChecksum(copy.data(), bytes);
+      return Fail(error, why);
     }
     Put<uint64_t>(e + 56, sum);
   }
@@ -452,26 +497,12 @@ bool WriteContents(int fd, const std::vector<unsigned char>& head,
     {
       return false;
     }
-    const unsigned char* p = static_cast<const unsigned char*>(f.Data);
-    if (HostIsLittleEndian() || size == 1)
+    std::string why;
+    if (!ForEachChunk(
+          f, &why, [fd](const unsigned char* p, size_t n) { return WriteAll(fd, p, n); }))
     {
-      if (!WriteAll(fd, p, bytes))
-      {
-        return false;
-      }
-    }
-    else
-    {
-      std::vector<unsigned char> chunk;
-      for (uint64_t done = 0; done < bytes; done += chunk.size())
-      {
-        chunk.assign(p + done, p + std::min<uint64_t>(bytes, done + (1u << 20)));
-        SwapValues(chunk.data(), chunk.size(), size);
-        if (!WriteAll(fd, chunk.data(), chunk.size()))
-        {
-          return false;
-        }
-      }
+      errno = why.empty() ? errno : EIO; // the array's Values failed (they did not before)
+      return false;
     }
     at = offset[a] + bytes;
   }
@@ -491,6 +522,11 @@ void SyncDirectory(const std::string& dir)
   }
 }
 } // namespace
+
+uint64_t FileChecksum(const void* data, size_t bytes)
+{
+  return ContinueChecksum(FnvOffset, data, bytes);
+}
 
 bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
   const std::vector<FileArray>& arrays, std::string* error)

@@ -46,6 +46,7 @@
 #include "plodOctreeSchema.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -86,6 +87,10 @@ struct FileArray
   int64_t Tuples = 0;
   const void* Data = nullptr; // host byte order
   uint64_t Checksum = 0;      // when read: the stored one
+  /// To write an array that is not in memory (Data null): fills `out` with `count` values
+  /// (tuples x components) from value `first` on, in host byte order; false with the reason.
+  /// Called in order, twice (the checksum, then the write), with at most 1 MiB at a time.
+  std::function<bool(int64_t first, int64_t count, void* out, std::string* why)> Values;
 };
 
 /// The arrays an octree file of version 1 holds, in file order: the required arrays of

@@ -7,6 +7,7 @@
 #include "plodOctreeBuilder.h"
 #include "plodPLYRead.h"
 #include "plodPartitionSteps.h"
+#include "plodTemporaryFile.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -26,122 +27,12 @@ namespace plod
 {
 namespace
 {
+using tempfile::Appender;
+using tempfile::ReadBack;
+using tempfile::SystemError;
 
 /// Triangles read from the triangle file at a time.
 constexpr int64_t BlockTriangles = int64_t(1) << 18;
-
-std::string SystemError(const std::string& what, const std::string& path)
-{
-  return what + " " + path + ": " + std::strerror(errno);
-}
-
-/// A file written forward through a buffer; every failure (a full disk) reported.
-class Appender
-{
-public:
-  ~Appender()
-  {
-    if (this->Fd >= 0)
-    {
-      ::close(this->Fd);
-    }
-  }
-
-  bool Open(const std::string& path, std::string* why)
-  {
-    this->Path = path;
-    this->Fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-    if (this->Fd < 0)
-    {
-      *why = SystemError("cannot create the temporary file", path);
-      return false;
-    }
-    this->Buffer.reserve(BufferBytes);
-    return true;
-  }
-
-  bool Write(const void* data, size_t bytes, std::string* why)
-  {
-    const char* p = static_cast<const char*>(data);
-    this->Bytes += static_cast<int64_t>(bytes);
-    if (this->Buffer.size() + bytes > BufferBytes && !this->Flush(why))
-    {
-      return false;
-    }
-    this->Buffer.insert(this->Buffer.end(), p, p + bytes);
-    return true;
-  }
-
-  bool Close(std::string* why)
-  {
-    const bool ok = this->Flush(why);
-    if (this->Fd >= 0 && ::close(this->Fd) != 0 && ok)
-    {
-      this->Fd = -1;
-      *why = SystemError("cannot write the temporary file", this->Path);
-      return false;
-    }
-    this->Fd = -1;
-    return ok;
-  }
-
-  int64_t Size() const { return this->Bytes; }
-
-private:
-  static constexpr size_t BufferBytes = size_t(1) << 20;
-
-  bool Flush(std::string* why)
-  {
-    size_t done = 0;
-    while (done < this->Buffer.size())
-    {
-      const ssize_t n = ::write(this->Fd, this->Buffer.data() + done, this->Buffer.size() - done);
-      if (n < 0 && errno == EINTR)
-      {
-        continue;
-      }
-      if (n <= 0)
-      {
-        *why = SystemError("cannot write the temporary file", this->Path);
-        return false;
-      }
-      done += static_cast<size_t>(n);
-    }
-    this->Buffer.clear();
-    return true;
-  }
-
-  std::string Path;
-  int Fd = -1;
-  std::vector<char> Buffer;
-  int64_t Bytes = 0;
-};
-
-/// Reads a whole temporary file's bytes into `out`.
-template <typename T>
-bool ReadBack(int fd, int64_t count, std::vector<T>* out, const std::string& path, std::string* why)
-{
-  out->resize(static_cast<size_t>(count));
-  char* p = reinterpret_cast<char*>(out->data());
-  size_t left = static_cast<size_t>(count) * sizeof(T);
-  while (left > 0)
-  {
-    const ssize_t n = ::read(fd, p, left);
-    if (n < 0 && errno == EINTR)
-    {
-      continue;
-    }
-    if (n <= 0)
-    {
-      *why = n < 0 ? SystemError("cannot read the temporary file", path)
-                   : "the temporary file " + path + " is shorter than written";
-      return false;
-    }
-    p += n;
-    left -= static_cast<size_t>(n);
-  }
-  return true;
-}
 
 /// A temporary file mapped read-only; its resident pages can be let go.
 class Mapping
@@ -872,6 +763,12 @@ bool PLYPieces::Open(const std::string& path, const PiecesParameters& parameters
 int PLYPieces::GetNumberOfPieces() const
 {
   return this->Internal->Agreed.NoTriangles ? 0 : this->Internal->Pieces;
+}
+
+//------------------------------------------------------------------------------
+int PLYPieces::GetOwnershipLevel() const
+{
+  return this->Internal->Params.OwnershipLevel;
 }
 
 //------------------------------------------------------------------------------

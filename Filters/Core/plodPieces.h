@@ -86,6 +86,8 @@ public:
   bool Open(const std::string& path, const PiecesParameters& parameters, std::string* why);
 
   int GetNumberOfPieces() const;
+  /// k, the level whose cells the pieces own.
+  int GetOwnershipLevel() const;
 
   /// What every piece shares: root cube, finest level, open-edge count of the whole, normals,
   /// NoTriangles, and in NumberOfSkippedTriangles the file's unusable triangles.

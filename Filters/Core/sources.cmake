@@ -12,6 +12,7 @@ set(plod_core_sources
   plodOctreeSchema.cxx
   plodPartition.cxx
   plodPatches.cxx
+  plodPieceAssembly.cxx
   plodPieces.cxx
   plodPLYCheck.cxx
   plodPLYRead.cxx
@@ -32,7 +33,9 @@ set(plod_core_headers
   plodParallel.h
   plodPartition.h
   plodPartitionSteps.h
+  plodTemporaryFile.h
   plodPatches.h
+  plodPieceAssembly.h
   plodPieces.h
   plodPLYCheck.h
   plodPLYIO.h

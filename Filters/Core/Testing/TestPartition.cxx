@@ -10,10 +10,12 @@
 // the piece owns; pieces sized by the memory limit; every fault removes the temporary files.
 #include "plodOctree.h"
 #include "plodOctreeBuilder.h"
+#include "plodOctreeFile.h"
 #include "plodOctreeStorage.h"
 #include "plodPLYRead.h"
 #include "plodPLYSamples.h"
 #include "plodPartition.h"
+#include "plodPieceAssembly.h"
 #include "plodPieces.h"
 #include "plodScanGenerator.h"
 
@@ -875,6 +877,167 @@ TEST(Pieces, FaultsSayWhatWasWrongAndLeaveNoTemporaryFiles)
     uses += bad.Triangles[t] == 0;
   }
   EXPECT_EQ(split.GetAgreement().NumberOfSkippedTriangles, uses);
+}
+
+//------------------------------------------------------------------------------
+// The octree file of the pieces
+
+/// The whole mesh's octree, built in memory with the pieces' root cube and finest level.
+struct WholeOctree
+{
+  plod::OctreeStorage Storage;
+  plod::OctreeView View;
+  std::vector<float> Normals;
+
+  WholeOctree(const Mesh& m, const plod::PartitionResult& agreed)
+    : Normals(m.Normals.begin(), m.Normals.end())
+  {
+    plod::BuildInput in;
+    in.NumberOfPoints = static_cast<int64_t>(m.Points.size() / 3);
+    in.Points = m.Points.data();
+    in.NumberOfTriangles = static_cast<int64_t>(m.Triangles.size() / 3);
+    in.Triangles = m.Triangles.data();
+    in.PointNormals = this->Normals.data();
+    plod::BuildParameters params;
+    params.FinestLevel = agreed.FinestLevel;
+    params.HasRootCube = true;
+    std::copy(agreed.RootOrigin, agreed.RootOrigin + 3, params.RootOrigin);
+    params.RootEdge = agreed.RootEdge;
+    const plod::BuildResult r = plod::BuildOctree(in, params, this->Storage.MakeAllocator());
+    EXPECT_TRUE(r.Ok) << r.Error;
+    this->View = this->Storage.View(r);
+  }
+};
+
+/// The triangles each node owns, as sorted sets of corner triples.
+std::vector<std::set<std::array<int32_t, 3>>> OwnedTriangles(const plod::OctreeView& v)
+{
+  std::vector<std::set<std::array<int32_t, 3>>> owned(v.NumberOfNodes);
+  for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+  {
+    for (int64_t t = v.FirstTriangle[n]; t < v.TriangleEnd(n); ++t)
+    {
+      owned[n].insert({ v.Triangles[3 * t], v.Triangles[3 * t + 1], v.Triangles[3 * t + 2] });
+    }
+  }
+  return owned;
+}
+
+// Built piece by piece and put together, the octree file equals the whole mesh's octree at
+// levels k and finer, node for node (clusters shifted by the levels above, which hold one
+// cluster per node), and has its structure above: the same nodes, points and owned triangles.
+TEST(Pieces, TheirOctreeFileIsTheWholeOctreeFromLevelKOn)
+{
+  const std::string tmp = FreshDirectory("pieces-file");
+  for (bool closed : { false, true })
+  {
+    SCOPED_TRACE(closed ? "closed" : "open");
+    Mesh m = MakeMesh(closed, 5);
+    const std::string ply =
+      WritePLY(m, "pieces-file.ply", plodtest::PLYEncoding::Little, "float", true);
+    const int k = 2;
+    plod::PLYPieces split;
+    const auto pieces = Pieces(ply, 4, k, tmp, &split);
+    ASSERT_EQ(pieces.size(), 4u);
+    const std::string path = ::testing::TempDir() + "pieces-file.plod";
+    plod::AssemblyParameters params;
+    plod::AssemblyReport report;
+    std::set<std::string> steps;
+    params.Progress = [&](double, const char* step) {
+      steps.insert(step);
+      return true;
+    };
+    std::string why;
+    ASSERT_TRUE(plod::WriteOctreeFileFromPieces(split, path, params, &report, &why)) << why;
+    EXPECT_EQ(steps, (std::set<std::string>{ "building the pieces", "writing the file" }));
+    EXPECT_EQ(CountEntries(tmp), 1) << "the assembly's temporary files are removed";
+
+    plod::OctreeFile file;
+    ASSERT_TRUE(plod::OpenOctreeFile(path, true, true, file, &why)) << why;
+    plod::OctreeView f;
+    ASSERT_TRUE(plod::ViewOfFile(file, f, &why)) << why;
+    ASSERT_TRUE(plod::ValidateOctree(f, &why)) << why;
+    EXPECT_EQ(file.Header.CoarsestDrawnLevel, k);
+    EXPECT_EQ(file.Header.BoundaryEdges, split.GetAgreement().NumberOfBoundaryEdges);
+    EXPECT_EQ(closed, file.Header.BoundaryEdges == 0);
+    EXPECT_EQ(report.NumberOfNodes, f.NumberOfNodes);
+    EXPECT_EQ(report.FileBytes, static_cast<int64_t>(file.Identity.Size));
+
+    WholeOctree whole(m, split.GetAgreement());
+    const plod::OctreeView& w = whole.View;
+    ASSERT_EQ(f.NumberOfNodes, w.NumberOfNodes);
+    ASSERT_EQ(f.NumberOfPoints, w.NumberOfPoints);
+    ASSERT_EQ(f.NumberOfTriangles, w.NumberOfTriangles);
+    int64_t structure = 0;
+    while (structure < w.NumberOfNodes && w.Level[structure] < k)
+    {
+      ++structure;
+    }
+    EXPECT_EQ(report.NumberOfStructureNodes, structure);
+    const int64_t shift = w.FirstCluster[structure] - f.FirstCluster[structure];
+    EXPECT_EQ(f.FirstCluster[structure], structure) << "one cluster per structure node";
+    for (int64_t n = 0; n < w.NumberOfNodes; ++n)
+    {
+      // the structure: the same tree, points and owned triangles
+      EXPECT_EQ(f.Level[n], w.Level[n]);
+      EXPECT_EQ(f.Parent[n], w.Parent[n]);
+      EXPECT_EQ(f.FirstChild[n], w.FirstChild[n]);
+      EXPECT_EQ(f.ChildMask[n], w.ChildMask[n]);
+      EXPECT_EQ(f.FirstPoint[n], w.FirstPoint[n]);
+      EXPECT_EQ(f.FirstTriangle[n], w.FirstTriangle[n]);
+      if (w.Level[n] < k)
+      {
+        continue;
+      }
+      ASSERT_EQ(f.FirstCluster[n] + shift, w.FirstCluster[n]) << "node " << n;
+      for (int a = 0; a < 3; ++a)
+      {
+        EXPECT_EQ(f.Vertex[3 * n + a], w.Vertex[3 * n + a]) << n;
+        EXPECT_EQ(f.ConeAxis[3 * n + a], w.ConeAxis[3 * n + a]) << n;
+      }
+      EXPECT_EQ(f.ConeAngle[n], w.ConeAngle[n]) << n;
+      EXPECT_EQ(f.ShapeError[n], w.ShapeError[n]) << n;
+      EXPECT_EQ(f.Flags[n], w.Flags[n]) << n;
+      EXPECT_EQ(f.Thickness[n], w.Thickness[n]) << n;
+      for (int a = 0; a < 2; ++a)
+      {
+        EXPECT_EQ(f.DiffuseRange[2 * n + a], w.DiffuseRange[2 * n + a]) << n;
+        EXPECT_EQ(f.SpecularRange[2 * n + a], w.SpecularRange[2 * n + a]) << n;
+      }
+    }
+    for (int64_t c = f.FirstCluster[structure]; c < f.NumberOfClusters; ++c)
+    {
+      EXPECT_EQ(f.ClusterNode[c], w.ClusterNode[c + shift]);
+      const int32_t parent = w.ClusterParent[c + shift];
+      if (w.Level[w.ClusterNode[c + shift]] > k)
+      {
+        EXPECT_EQ(f.ClusterParent[c], parent - shift);
+      }
+      else
+      {
+        EXPECT_EQ(f.ClusterParent[c], f.Parent[f.ClusterNode[c]]) << "a structure node's cluster";
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        EXPECT_EQ(f.ClusterVertex[3 * c + a], w.ClusterVertex[3 * (c + shift) + a]);
+        EXPECT_EQ(f.ClusterNormal[3 * c + a], w.ClusterNormal[3 * (c + shift) + a]);
+      }
+    }
+    for (int64_t q = 0; q < f.NumberOfPoints; ++q)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        EXPECT_EQ(f.Points[3 * q + a], w.Points[3 * q + a]) << q;
+        EXPECT_EQ(f.Normals[3 * q + a], w.Normals[3 * q + a]) << q;
+      }
+      EXPECT_EQ(f.PointLeaf[q], w.PointLeaf[q]);
+      EXPECT_EQ(f.PointCluster[q] + shift, w.PointCluster[q]);
+      EXPECT_EQ(f.InputPointId[q], -1);
+    }
+    EXPECT_EQ(OwnedTriangles(f), OwnedTriangles(w));
+    std::remove(path.c_str());
+  }
+  EXPECT_EQ(CountEntries(tmp), 0);
 }
 
 } // namespace

@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file plodPieceAssembly.h
+ * @brief VTK-free build of an octree file from a PLY file split into pieces (plodPieces.h):
+ *        each piece built on its own, the pieces' cells put together into one octree file,
+ *        in bounded memory.
+ *
+ * Each piece is built in memory (BuildOctree, with the agreed root cube and finest level) and
+ * the part of its octree it owns is kept in temporary files, one per array and level: its
+ * nodes of level k (the ownership level) and finer, their clusters, its points and the
+ * triangles they own. Piece p owns a Morton run of level-k cells, so its part of each level
+ * follows the parts of pieces 0 .. p-1, and the octree file is their concatenation, level by
+ * level, with every index shifted to its place. Each owned cell is complete in its piece
+ * (plodPartition.h), so levels k and finer are the whole mesh's octree, node for node:
+ * vertices, clusters, cones, shape errors, flags, points and the triangles each node owns.
+ *
+ * The levels above k hold structure only: one node per occupied cell (the ancestors of the
+ * level-k cells, as in the whole mesh's octree) with one cluster each, and the triangles they
+ * own (those whose corners' cells meet only above k), taken from the piece that owns their lead
+ * corner. Their vertices, cones and errors are placeholders (the cell's centre, a cone of pi,
+ * an error and a thickness of the cell's diagonal), and the file's coarsest drawn level is k,
+ * so a selector refines them at once (vtkMultiscaleOctree::GetCoarsestDrawnLevel). The
+ * differences from the whole mesh's octree are named: a cut stops at level k at the coarsest;
+ * the input point ids are -1 (the pieces renumber the points); the non-manifold and misoriented
+ * edge counts are sums over the pieces (edges near a piece's border may be counted twice: zero
+ * stays zero); the boundary-edge count is the partition's.
+ *
+ * The file is written by WriteOctreeFile from the temporary files (FileArray::Values), never
+ * rewriting the target in place.
+ */
+#ifndef plodPieceAssembly_h
+#define plodPieceAssembly_h
+
+#include "plodOctreeBuilder.h"
+#include "plodParallel.h"
+#include "plodPieces.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace plod
+{
+
+struct AssemblyParameters
+{
+  /// The vertex rule of every piece's build.
+  VertexRule Rule = VertexRule::QEF;
+  /// Bytes one piece's build may use (BuildParameters::MemoryLimit).
+  double MemoryLimit = 4.0e9;
+  /// How each piece's build runs its ranges.
+  ParallelFor Parallel = SerialFor;
+  /// Called with the fraction done of the current step, in [0, 1], and the step's name
+  /// ("building the pieces", "writing the file"); return false to abort.
+  std::function<bool(double, const char*)> Progress;
+};
+
+/// What the assembly made.
+struct AssemblyReport
+{
+  int64_t NumberOfNodes = 0;
+  int64_t NumberOfClusters = 0;
+  int64_t NumberOfPoints = 0;
+  int64_t NumberOfTriangles = 0;
+  int FinestLevel = 0;
+  int CoarsestDrawnLevel = 0;
+  /// Nodes above the coarsest drawn level (structure only).
+  int64_t NumberOfStructureNodes = 0;
+  /// Triangles owned by those nodes.
+  int64_t NumberOfStructureTriangles = 0;
+  /// The most bytes the assembly's own temporary files held (the pieces' not counted).
+  int64_t PeakTemporaryBytes = 0;
+  /// Bytes of the octree file written.
+  int64_t FileBytes = 0;
+};
+
+/**
+ * Builds every piece of `pieces` and writes the octree they make to `path` (see the file's
+ * documentation). False with the reason in `why` on a piece whose build fails, a temporary file
+ * that cannot be written, an octree too large for one file (2^31 - 1 nodes, points or
+ * triangles), an abort or a file that cannot be written; `path` is then left as it was. The
+ * temporary files go in the pieces' temporary directory and are removed. Never throws.
+ */
+bool WriteOctreeFileFromPieces(const PLYPieces& pieces, const std::string& path,
+  const AssemblyParameters& parameters, AssemblyReport* report, std::string* why);
+
+} // namespace plod
+
+#endif
