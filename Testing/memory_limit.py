@@ -1,6 +1,8 @@
 """End-to-end check of a program's --memory option on a PLY model: a limit the model cannot fit
 in is refused from the header before anything is read (exit 1, a message that says how many
-faces fit, no octree file), a limit with room builds it, and a size that is not one is refused.
+faces fit, no octree file) unless --save names a file, when the model is built in pieces within
+the limit (the file opens, no temporary file is left); a limit no piece fits is refused with no
+file and no temporary file; a limit with room builds it; a size that is not one is refused.
 
     memory_limit.py <program> [arguments...]
 """
@@ -56,17 +58,36 @@ def main():
         data, faces = grid_ply(120)
         with open(model, 'wb') as f:
             f.write(data)
-        run = subprocess.run(command + [model, '--memory', '1M', '--save', out],
+        run = subprocess.run(command + [model, '--memory', '1M'],
                              capture_output=True, text=True, timeout=300)
         print(run.stdout + run.stderr)
         if run.returncode != 1 or 'at most' not in run.stderr or 'Nothing was read' not in run.stderr:
             failures.append(f'--memory 1M: exit {run.returncode}, no refusal saying what fits')
-        elif os.path.exists(out):
-            failures.append('--memory 1M: an octree file was written')
+        elif 'with --save, the model is built in pieces' not in run.stdout:
+            failures.append('--memory 1M: no word of the build in pieces')
         else:
             fit = int(run.stderr.split('at most ')[1].split()[0])
             if not 0 < fit < faces:
                 failures.append(f'--memory 1M: {fit} faces said to fit of {faces}')
+        # with --save: built in pieces within the limit, straight into the file
+        run = subprocess.run(command + [model, '--memory', '1M', '--save', out],
+                             capture_output=True, text=True, timeout=300)
+        print(run.stdout + run.stderr)
+        left = [n for n in os.listdir(folder) if n not in ('grid.ply', 'grid.plod')]
+        if run.returncode != 0 or 'built in pieces' not in run.stdout or not os.path.exists(out):
+            failures.append(f'--memory 1M --save: exit {run.returncode}, {run.stderr.strip()}')
+        elif left:
+            failures.append(f'--memory 1M --save: temporary files left: {left}')
+        elif 'structure only' not in run.stdout or 'octree: ' not in run.stdout:
+            failures.append('--memory 1M --save: the built file was not opened and described')
+        os.remove(out) if os.path.exists(out) else None
+        # a limit that not even one cell with its halo fits: refused, nothing left behind
+        run = subprocess.run(command + [model, '--memory', '0.02M', '--save', out],
+                             capture_output=True, text=True, timeout=300)
+        left = [n for n in os.listdir(folder) if n != 'grid.ply']
+        if run.returncode != 1 or 'more memory' not in run.stderr or left:
+            failures.append(f'--memory 0.02M --save: exit {run.returncode}, left {left}, '
+                            f'{run.stderr.strip()}')
         run = subprocess.run(command + [model, '--memory', '0.5G', '--save', out],
                              capture_output=True, text=True, timeout=300)
         if run.returncode != 0 or not os.path.exists(out) or 'header: ' not in run.stdout:

