@@ -757,10 +757,11 @@ std::string ReadHeader(
 }
 
 /// Array `a` of the directory: its entry checked against the header's counts and the file's
-/// size, its values brought to the host's byte order, their checksum verified when asked;
-/// `extent` receives the bytes it spans (empty for no values). "" or what is wrong.
+/// size, its values brought to the host's byte order, their checksum verified when asked (a
+/// mapped file's pages let go once checked, so that verifying a file larger than memory does not
+/// hold it); `extent` receives the bytes it spans (empty for no values). "" or what is wrong.
 std::string ReadArray(unsigned char* bytes, uint64_t size, const OctreeFileHeader& h,
-  uint32_t count, uint32_t a, bool verifyChecksums, FileArray& f,
+  uint32_t count, uint32_t a, bool verifyChecksums, bool mapped, FileArray& f,
   std::pair<uint64_t, uint64_t>& extent)
 {
   const uint32_t headerSize = HeaderBytes + EntryBytes * count;
@@ -808,10 +809,20 @@ std::string ReadArray(unsigned char* bytes, uint64_t size, const OctreeFileHeade
   }
   if (verifyChecksums)
   {
-    uint64_t sum = 0;
+    uint64_t sum = FnvOffset;
     if (HostIsLittleEndian())
     {
-      sum = FileChecksum(bytes + offset, length);
+      // in windows of 64 MiB (a multiple of the page size: the array starts on a page)
+      constexpr uint64_t window = uint64_t(64) << 20;
+      for (uint64_t done = 0; done < length; done += window)
+      {
+        const uint64_t n = std::min(window, length - done);
+        sum = ContinueChecksum(sum, bytes + offset + done, static_cast<size_t>(n));
+        if (mapped)
+        {
+          ::madvise(bytes + offset + done, static_cast<size_t>(n), MADV_DONTNEED);
+        }
+      }
     }
     else
     {
@@ -877,7 +888,7 @@ bool OpenOctreeFile(
   {
     FileArray f;
     std::pair<uint64_t, uint64_t> extent;
-    why = ReadArray(bytes, size, out.Header, count, a, verifyChecksums, f, extent);
+    why = ReadArray(bytes, size, out.Header, count, a, verifyChecksums, out.Mapped, f, extent);
     if (!why.empty())
     {
       return Fail(error, where + why);
