@@ -531,8 +531,7 @@ private:
     {
       this->CellFirstPoint[this->CellsK[i]] = this->CellsKFirstPoint[i];
     }
-    this->MakeStructureArrays(owner, order);
-    return true;
+    return this->MakeStructureArrays(owner, order);
   }
 
   /// The index of the structure node of (level, cell).
@@ -557,7 +556,20 @@ private:
     return part;
   }
 
-  void MakeStructureArrays(const std::vector<int64_t>& owner, const std::vector<size_t>& order)
+  /// Point q's 3 floats of a point array (its part file).
+  bool ReadPoint(int m, int64_t q, float* out)
+  {
+    const std::string path = this->PartFile(m, 0);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    const ssize_t got = fd < 0 ? -1 : ::pread(fd, out, 12, static_cast<off_t>(12 * q));
+    if (fd >= 0)
+    {
+      ::close(fd);
+    }
+    return got == 12 || this->Fail(SystemError("cannot read the temporary file", path));
+  }
+
+  bool MakeStructureArrays(const std::vector<int64_t>& owner, const std::vector<size_t>& order)
   {
     const int K = this->K;
     const int64_t structure = this->NodeStart[K];
@@ -597,13 +609,13 @@ private:
         const uint64_t kCell = c << (3 * (K - l));
         const auto it = std::lower_bound(this->CellsK.begin(), this->CellsK.end(), kCell);
         firstPoint[n] = static_cast<int32_t>(this->CellsKFirstPoint[it - this->CellsK.begin()]);
-        uint32_t xyz[3];
-        MortonDecode(c, xyz);
-        for (int a = 0; a < 3; ++a)
+        // a point of the surface inside the cell, with its normal: where a corner goes when the
+        // frustum culls the cell (its triangles leave the view towards the surface)
+        if (!this->ReadPoint(MPoints, firstPoint[n], &vertex[3 * n]) ||
+          !this->ReadPoint(MNormals, firstPoint[n], &axis[3 * n]))
         {
-          vertex[3 * n + a] = static_cast<float>((double(xyz[a]) + 0.5) * edge);
+          return false;
         }
-        axis[3 * n + 2] = 1.0f;
         error[n] = thickness[n] = static_cast<float>(edge * std::sqrt(3.0));
         cluster[n] = static_cast<int32_t>(n);
         firstTriangle[n] = owned[n];
@@ -651,16 +663,10 @@ private:
       this->Parts[m].push_back(nodePart(m));
     }
     // structure clusters: one per node, its parent the parent node's
-    std::vector<int32_t> clusterParent(parent);
-    std::vector<float> normal(3 * structure, 0.0f);
-    for (int64_t n = 0; n < structure; ++n)
-    {
-      normal[3 * n + 2] = 1.0f;
-    }
     this->Parts[MClusterNode].push_back(MemoryPart(cluster));
-    this->Parts[MClusterParent].push_back(MemoryPart(clusterParent));
+    this->Parts[MClusterParent].push_back(MemoryPart(parent));
     this->Parts[MClusterVertex].push_back(MemoryPart(vertex));
-    this->Parts[MClusterNormal].push_back(MemoryPart(normal));
+    this->Parts[MClusterNormal].push_back(MemoryPart(axis));
     // structure triangles
     std::vector<int32_t> triangles(3 * order.size());
     for (size_t t = 0; t < order.size(); ++t)
@@ -672,6 +678,7 @@ private:
       }
     }
     this->Parts[MTriangles].push_back(MemoryPart(triangles));
+    return true;
   }
 
   /// The parts of each array beyond the structure: the levels' files.

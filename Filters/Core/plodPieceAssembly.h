@@ -17,10 +17,12 @@
  * The levels above k hold structure only: one node per occupied cell (the ancestors of the
  * level-k cells, as in the whole mesh's octree) with one cluster each, and the triangles they
  * own (those whose corners' cells meet only above k), taken from the piece that owns their lead
- * corner. Their vertices, cones and errors are placeholders (the cell's centre, a cone of pi,
- * an error and a thickness of the cell's diagonal), and the file's coarsest drawn level is k,
- * so a selector refines them at once (vtkMultiscaleOctree::GetCoarsestDrawnLevel). The
- * differences from the whole mesh's octree are named: a cut stops at level k at the coarsest;
+ * corner. Their vertices, cones and errors are placeholders (the cell's first point of the
+ * surface and its normal, a cone of pi, an error and a thickness of the cell's diagonal), and
+ * the file's coarsest drawn level is k, so a selector refines them at once
+ * (vtkMultiscaleOctree::GetCoarsestDrawnLevel). The differences from the whole mesh's octree
+ * are named: a cut stops at level k at the coarsest; a cell above k that the frustum culls
+ * (kept in the cut) takes its triangles' corners to that point, not to the whole's vertex;
  * the input point ids are -1 (the pieces renumber the points); the non-manifold and misoriented
  * edge counts are sums over the pieces (edges near a piece's border may be counted twice: zero
  * stays zero); the boundary-edge count is the partition's.

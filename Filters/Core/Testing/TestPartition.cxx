@@ -1040,4 +1040,39 @@ TEST(Pieces, TheirOctreeFileIsTheWholeOctreeFromLevelKOn)
   EXPECT_EQ(CountEntries(tmp), 0);
 }
 
+// A failed assembly (an abort at each step, a folder that does not exist) leaves the target as
+// it was and removes its own temporary files.
+TEST(Pieces, AFailedOctreeFileLeavesTheTargetAndNoTemporaryFile)
+{
+  const std::string tmp = FreshDirectory("pieces-file-faults");
+  Mesh m = MakeMesh(true, 4);
+  const std::string ply =
+    WritePLY(m, "pieces-file-faults.ply", plodtest::PLYEncoding::Little, "float", false);
+  plod::PLYPieces split;
+  ASSERT_EQ(Pieces(ply, 2, 2, tmp, &split).size(), 2u);
+  const int before = CountEntries(split.GetTemporaryDirectory());
+  const std::string target = ::testing::TempDir() + "pieces-file-faults.plod";
+  std::ofstream(target) << "the old file";
+  for (const char* step : { "building the pieces", "writing the file" })
+  {
+    plod::AssemblyParameters params;
+    params.Progress = [&](double, const char* s) { return std::string(s) != step; };
+    std::string why;
+    EXPECT_FALSE(plod::WriteOctreeFileFromPieces(split, target, params, nullptr, &why));
+    EXPECT_EQ(why, "aborted") << step;
+    std::ifstream in(target);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "the old file") << step;
+    EXPECT_EQ(CountEntries(split.GetTemporaryDirectory()), before) << step;
+  }
+  std::string why;
+  EXPECT_FALSE(plod::WriteOctreeFileFromPieces(
+    split, ::testing::TempDir() + "no-such-folder/x.plod", {}, nullptr, &why));
+  EXPECT_NE(why.find("no-such-folder"), std::string::npos) << why;
+  EXPECT_EQ(CountEntries(split.GetTemporaryDirectory()), before);
+  plod::PLYPieces none;
+  EXPECT_FALSE(plod::WriteOctreeFileFromPieces(none, target, {}, nullptr, &why));
+  EXPECT_NE(why.find("no pieces"), std::string::npos) << why;
+  std::remove(target.c_str());
+}
+
 } // namespace

@@ -6,9 +6,12 @@
 #include "plodOctreeChecks.h"
 #include "plodOctreeSchema.h"
 #include "plodOctreeStorage.h"
+#include "plodPieceAssembly.h"
+#include "plodPieces.h"
 #include "plodTestUtilities.h"
 
 #include "vtkCallbackCommand.h"
+#include "vtkCamera.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
@@ -23,8 +26,11 @@
 #include "vtkMath.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
+#include "vtkMultiscaleOctreeReader.h"
+#include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
 #include "vtkPLYWriter.h"
+#include "vtkPerceptualLODSelector.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -2072,6 +2078,95 @@ TEST(MultiscaleOctreeBuilder, BuildFromAFileIsTheBuildOfItsMesh)
 // A file that cannot fit is refused from its header's counts before a row is read, with what
 // would fit; missing files, other formats and an input beside a file name are errors. Each
 // gives an empty octree.
+// A PLY file built in pieces into an octree file draws, through the reader, the selector and the
+// patch generator, what its in-core build draws with the selector's minimum level at the pieces'
+// level: the same cut and the same triangles, near and far, with the model in view (a cell above
+// level k that the frustum culls is drawn at a point of the surface, not at the whole's vertex).
+TEST(MultiscaleOctreeBuilder, AFileBuiltInPiecesDrawsAsItsInCoreBuildFromLevelK)
+{
+  auto blob = plodtest::MakeBlob(7, 160, 0.3);
+  const std::string ply = WritePLYFile(blob, "pieces", true);
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetFileName(ply.c_str());
+  builder->Update();
+  ASSERT_GT(builder->GetOutput()->GetNumberOfNodes(), 0);
+
+  const int k = 3;
+  plod::PiecesParameters params;
+  params.OwnershipLevel = k;
+  params.NumberOfPieces = 3;
+  plod::PLYPieces pieces;
+  std::string why;
+  ASSERT_TRUE(pieces.Open(ply, params, &why)) << why;
+  ASSERT_EQ(pieces.GetAgreement().FinestLevel, builder->GetOutput()->GetFinestLevel());
+  const std::string octreeFile = ply + ".plod";
+  ASSERT_TRUE(plod::WriteOctreeFileFromPieces(pieces, octreeFile, {}, nullptr, &why)) << why;
+  vtkNew<vtkMultiscaleOctreeReader> reader;
+  reader->SetFileName(octreeFile.c_str());
+  reader->Update();
+  ASSERT_EQ(reader->GetOutput()->GetCoarsestDrawnLevel(), k);
+  ASSERT_EQ(reader->GetOutput()->GetNumberOfNodes(), builder->GetOutput()->GetNumberOfNodes());
+
+  vtkNew<vtkPerceptualLODSelector> whole, built;
+  whole->SetInputConnection(builder->GetOutputPort());
+  whole->SetMinimumLevel(k);
+  built->SetInputConnection(reader->GetOutputPort());
+  vtkNew<vtkMultiscalePatchGenerator> wholePatches, builtPatches;
+  wholePatches->SetInputConnection(whole->GetOutputPort());
+  builtPatches->SetInputConnection(built->GetOutputPort());
+  int refined = 0;
+  for (double distance : { 2.5, 5.0, 12.0 })
+  {
+    const double eye[3] = { 0.3 * distance, 0.2 * distance, distance }, focus[3] = { 0, 0, 0 };
+    vtkNew<vtkCamera> camera;
+    camera->SetPosition(eye);
+    camera->SetFocalPoint(focus);
+    camera->SetViewAngle(80);
+    double planes[24];
+    camera->GetFrustumPlanes(4.0 / 3.0, planes);
+    for (vtkPerceptualLODSelector* s : { whole.GetPointer(), built.GetPointer() })
+    {
+      s->SetEyePosition(eye[0], eye[1], eye[2]);
+      s->SetViewAngle(80);
+      s->SetFrustumPlanes(planes);
+    }
+    wholePatches->Update();
+    builtPatches->Update();
+    auto state = [](vtkPerceptualLODSelector* s) {
+      auto* a = vtkUnsignedCharArray::SafeDownCast(
+        s->GetOutput()->GetNodeData()->GetArray(vtkMultiscaleOctree::CutStateArrayName()));
+      return std::vector<uint8_t>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
+    };
+    EXPECT_EQ(state(whole), state(built)) << "distance " << distance;
+    vtkPolyData* a = wholePatches->GetOutput();
+    vtkPolyData* b = builtPatches->GetOutput();
+    // the same triangles at the same places (a node's triangles may come in another order)
+    auto triangles = [](vtkPolyData* pd) {
+      std::multiset<std::array<double, 9>> out;
+      for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c)
+      {
+        vtkIdType n = 0;
+        const vtkIdType* ids = nullptr;
+        pd->GetCellPoints(c, n, ids);
+        std::array<double, 9> t{};
+        for (int k = 0; k < 3 && k < n; ++k)
+        {
+          pd->GetPoint(ids[k], &t[3 * k]);
+        }
+        out.insert(t);
+      }
+      return out;
+    };
+    EXPECT_GT(a->GetNumberOfCells(), 0);
+    EXPECT_EQ(a->GetNumberOfCells(), b->GetNumberOfCells()) << "distance " << distance;
+    EXPECT_TRUE(triangles(a) == triangles(b)) << "distance " << distance;
+    refined += whole->GetNumberOfCutNodes() > 1;
+  }
+  EXPECT_EQ(refined, 3);
+  std::remove(octreeFile.c_str());
+  std::remove(ply.c_str());
+}
+
 TEST(MultiscaleOctreeBuilder, BuildFromAFileRefusesWhatCannotFitOrBeRead)
 {
   auto blob = plodtest::MakeBlob(6, 40, 0.2);
