@@ -50,6 +50,10 @@
 
 namespace
 {
+/// The level table makes each uniform cut's patches in memory up to this many triangles (a
+/// model built in pieces may be far larger than memory).
+constexpr vtkIdType MaxTableTriangles = 40000000;
+
 /// A memory size: a number of MiB, or a number with a suffix K, M, G or T (powers of 1024).
 /// Returns the MiB, or a negative number for text that is not a size.
 double ParseMiB(const std::string& text)
@@ -484,6 +488,12 @@ int main(int argc, char* argv[])
               "   patches: triangles    ms\n");
   for (int l = 0; l <= octree->GetFinestLevel() + 1; ++l)
   {
+    if (l > octree->GetFinestLevel() && octree->GetNumberOfSurfaceTriangles() > MaxTableTriangles)
+    {
+      std::printf(" full   (not made: %lld triangles, more than this table makes in memory)\n",
+        static_cast<long long>(octree->GetNumberOfSurfaceTriangles()));
+      break;
+    }
     if (l > octree->GetFinestLevel())
     {
       cutter->SetLevel(-1);
@@ -511,6 +521,12 @@ int main(int argc, char* argv[])
       ax = std::max(ax, a);
       sm += shape->GetValue(n);
       sx = std::max(sx, double(shape->GetValue(n)));
+    }
+    if (count > MaxTableTriangles / 4)
+    {
+      std::printf("%5d %9lld   %9.3g   (patches not made: too many cells for this table)\n", l,
+        count, octree->GetCellEdge(l));
+      continue;
     }
     cutter->SetLevel(l);
     patches->Update();

@@ -1,17 +1,15 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Builds a PLY model piece by piece in bounded memory (plodPieces.h, then plod::BuildOctree per
-// piece) and reports each step's time, the peak resident memory, the temporary disk and the
-// octree bytes per input triangle. For the benchmarks of models bigger than memory
-// (docs/benchmarks.md, "Building in pieces").
+// Builds a PLY model piece by piece in bounded memory into an octree file (plodPieces.h,
+// plodPieceAssembly.h) and reports each step's time, the peak resident memory, the temporary
+// disk and the file's bytes per input triangle, without VTK. For the benchmarks of models
+// bigger than memory (docs/benchmarks.md, "Building in pieces").
 //
-//   plodBuildInPieces model.ply [--memory 4G] [--level k] [--pieces n] [--threads t]
-//                               [--tmp folder]
+//   plodBuildInPieces model.ply --save out.plod [--memory 4G] [--level k] [--pieces n]
+//                               [--threads t] [--tmp folder]
 //
 // --memory bounds one piece (its merge, then its build); the pieces are built one after the
-// other, each over --threads threads (default: all cores). Each piece's octree is measured and
-// let go: putting the pieces' octrees together into one file is not built yet.
-#include "plodOctreeBuilder.h"
-#include "plodOctreeStorage.h"
+// other, each over --threads threads (default: all cores).
+#include "plodPieceAssembly.h"
 #include "plodPieces.h"
 
 #include <algorithm>
@@ -97,7 +95,7 @@ plod::ParallelFor ThreadFor(int threads)
 
 int main(int argc, char* argv[])
 {
-  std::string path;
+  std::string path, save;
   plod::PiecesParameters params;
   params.MemoryLimit = 4.0 * 1024 * 1024 * 1024;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -114,19 +112,22 @@ int main(int argc, char* argv[])
       threads = std::max(1, std::atoi(argv[++i]));
     else if (a == "--tmp" && i + 1 < argc)
       params.TemporaryDirectory = argv[++i];
+    else if (a == "--save" && i + 1 < argc)
+      save = argv[++i];
     else if (a[0] != '-' && path.empty())
       path = a;
     else
     {
       std::fprintf(stderr,
-        "usage: %s model.ply [--memory 4G] [--level k] [--pieces n] [--threads t] [--tmp dir]\n",
+        "usage: %s model.ply --save out.plod [--memory 4G] [--level k] [--pieces n] "
+        "[--threads t] [--tmp dir]\n",
         argv[0]);
       return 1;
     }
   }
-  if (path.empty() || !(params.MemoryLimit > 0))
+  if (path.empty() || save.empty() || !(params.MemoryLimit > 0))
   {
-    std::fprintf(stderr, "a PLY file and a memory size such as 4G are needed\n");
+    std::fprintf(stderr, "a PLY file, --save and a memory size such as 4G are needed\n");
     return 1;
   }
   std::string step;
@@ -164,60 +165,27 @@ int main(int argc, char* argv[])
     static_cast<long long>(agreed.NumberOfSkippedTriangles), splitSeconds, PeakResidentMiB(),
     double(pieces.GetPeakTemporaryBytes()) / 1048576.0);
 
-  plod::BuildParameters build;
-  build.FinestLevel = agreed.FinestLevel;
-  build.HasRootCube = true;
-  std::copy(agreed.RootOrigin, agreed.RootOrigin + 3, build.RootOrigin);
-  build.RootEdge = agreed.RootEdge;
-  build.MemoryLimit = params.MemoryLimit;
-  const plod::ParallelFor parallel = ThreadFor(threads);
-  double buildSeconds = 0, octreeBytes = 0;
-  const int64_t usable = pieces.GetNumberOfUsableTriangles();
-  int64_t received = 0;
-  for (int p = 0; p < pieces.GetNumberOfPieces(); ++p)
+  plod::AssemblyParameters assembly;
+  assembly.MemoryLimit = params.MemoryLimit;
+  assembly.Parallel = ThreadFor(threads);
+  assembly.Progress = params.Progress;
+  plod::AssemblyReport report;
+  const Clock::time_point built = Clock::now();
+  if (!plod::WriteOctreeFileFromPieces(pieces, save, assembly, &report, &why))
   {
-    const Clock::time_point t0 = Clock::now();
-    plod::PartitionResult r;
-    if (!pieces.GetPiece(p, &r, &why))
-    {
-      std::fprintf(stderr, "error: %s\n", why.c_str());
-      return 1;
-    }
-    std::vector<float> normals(r.Normals.begin(), r.Normals.end());
-    std::vector<double>().swap(r.Normals);
-    plod::BuildInput in;
-    in.NumberOfPoints = static_cast<int64_t>(r.Ghost.size());
-    in.Points = r.Points.data();
-    in.NumberOfTriangles = static_cast<int64_t>(r.Triangles.size() / 3);
-    in.Triangles = r.Triangles.data();
-    in.PointNormals = normals.empty() ? nullptr : normals.data();
-    in.PointGhost = r.Ghost.data();
-    plod::OctreeStorage storage;
-    const plod::BuildResult b = plod::BuildOctree(in, build, storage.MakeAllocator(), parallel);
-    if (!b.Ok)
-    {
-      std::fprintf(stderr, "error: piece %d: %s\n", p, b.Error.c_str());
-      return 1;
-    }
-    const double seconds = Seconds(t0);
-    buildSeconds += seconds;
-    const double bytes = plod::EstimateOctreeBytes(b.NumberOfPoints, b.NumberOfTriangles);
-    octreeBytes += bytes;
-    received += in.NumberOfTriangles;
-    std::printf(
-      "  piece %3d: %10lld triangles (%5.1f%% halo), %8lld nodes, %6.1f s, peak %.0f MiB\n", p,
-      static_cast<long long>(in.NumberOfTriangles),
-      100.0 * double(r.NumberOfHaloTriangles) / double(std::max<int64_t>(1, in.NumberOfTriangles)),
-      static_cast<long long>(b.NumberOfNodes), seconds, PeakResidentMiB());
+    std::fprintf(stderr, "error: %s\n", why.c_str());
+    return 1;
   }
+  std::printf("  %-20s %7.1f s\n", step.c_str(), Seconds(stepStart));
   const double total = Seconds(start);
-  std::printf("built: %lld triangles received (%.1f%% more than the %lld usable), split %.1f s + "
-              "build %.1f s = %.1f s (%.2f M input triangles/s), peak %.0f MiB, temporary disk "
-              "%.0f MiB, octrees %.1f bytes per input triangle\n",
-    static_cast<long long>(received),
-    100.0 * (double(received) / double(std::max<int64_t>(1, usable)) - 1.0),
-    static_cast<long long>(usable), splitSeconds, buildSeconds, total, double(usable) / total / 1e6,
-    PeakResidentMiB(), double(pieces.GetPeakTemporaryBytes()) / 1048576.0,
-    octreeBytes / double(std::max<int64_t>(1, usable)));
+  const int64_t usable = pieces.GetNumberOfUsableTriangles();
+  std::printf("built: %s, split %.1f s + build and write %.1f s = %.1f s (%.2f M input "
+              "triangles/s), peak %.0f MiB, temporary disk %.0f MiB, file %.1f bytes per "
+              "input triangle, %lld structure nodes above level %d\n",
+    save.c_str(), splitSeconds, Seconds(built), total, double(usable) / total / 1e6,
+    PeakResidentMiB(),
+    double(pieces.GetPeakTemporaryBytes() + report.PeakTemporaryBytes) / 1048576.0,
+    double(report.FileBytes) / double(std::max<int64_t>(1, usable)),
+    static_cast<long long>(report.NumberOfStructureNodes), report.CoarsestDrawnLevel);
   return 0;
 }
