@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMultiscaleOctreeCutter.h"
 
+#include <algorithm>
+
 #include "plodCut.h"
 
 #include "vtkDataArray.h"
@@ -86,7 +88,10 @@ int vtkMultiscaleOctreeCutter::RequestData(
         v, [this](int64_t n) { return this->RefineCallback(static_cast<vtkIdType>(n)); }, state);
       break;
     default:
-      plod::UniformCut(v, this->Level, state);
+      // an octree built in pieces draws nothing above its coarsest drawn level
+      plod::UniformCut(v,
+        this->Level < 0 ? this->Level : std::max(this->Level, input->GetCoarsestDrawnLevel()),
+        state);
   }
   output->GetNodeData()->AddArray(cut);
   return 1;

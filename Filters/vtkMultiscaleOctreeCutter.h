@@ -11,7 +11,9 @@
  * Modes:
  * - CUT_UNIFORM (default): every node at Level, drawn at its representative vertex. Level -1
  *   (the default), or any level above the finest, opens every leaf: the full resolution, the
- *   input itself.
+ *   input itself. A level coarser than the octree's coarsest drawn level (an octree built in
+ *   pieces, vtkMultiscaleOctree::GetCoarsestDrawnLevel) cuts at that level. The other modes
+ *   cut where they are told: the levels above it hold placeholders.
  * - CUT_REFINE_ARRAY: a node is refined when the node array named RefineArrayName is non-zero
  *   for it (a refined leaf is opened); the cut is where refinement stops (the root is always
  *   considered). From Python, set such an array with numpy on the builder's output, then

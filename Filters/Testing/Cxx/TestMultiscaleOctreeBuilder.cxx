@@ -26,6 +26,7 @@
 #include "vtkMath.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
+#include "vtkMultiscaleOctreeCutter.h"
 #include "vtkMultiscaleOctreeReader.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
@@ -2163,6 +2164,20 @@ TEST(MultiscaleOctreeBuilder, AFileBuiltInPiecesDrawsAsItsInCoreBuildFromLevelK)
     refined += whole->GetNumberOfCutNodes() > 1;
   }
   EXPECT_EQ(refined, 3);
+  // a uniform cut above the pieces' level cuts at that level (nothing above it is drawn)
+  vtkNew<vtkMultiscaleOctreeCutter> coarse, atK;
+  coarse->SetInputConnection(reader->GetOutputPort());
+  coarse->SetLevel(0);
+  atK->SetInputConnection(reader->GetOutputPort());
+  atK->SetLevel(k);
+  coarse->Update();
+  atK->Update();
+  auto cut = [](vtkMultiscaleOctreeCutter* c) {
+    auto* a = vtkUnsignedCharArray::SafeDownCast(
+      c->GetOutput()->GetNodeData()->GetArray(vtkMultiscaleOctree::CutStateArrayName()));
+    return std::vector<uint8_t>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
+  };
+  EXPECT_EQ(cut(coarse), cut(atK));
   std::remove(octreeFile.c_str());
   std::remove(ply.c_str());
 }
