@@ -4,6 +4,8 @@
 #include "plodBuildUtil.h"
 #include "plodOctreeBuilder.h"
 #include "plodPLYRead.h"
+#include "plodPieceAssembly.h"
+#include "plodPieces.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
@@ -15,6 +17,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiscaleOctree.h"
+#include "vtkMultiscaleOctreeReader.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -131,6 +134,7 @@ vtkMultiscaleOctreeBuilder::vtkMultiscaleOctreeBuilder()
 vtkMultiscaleOctreeBuilder::~vtkMultiscaleOctreeBuilder()
 {
   this->SetFileName(nullptr);
+  this->SetOctreeFileName(nullptr);
   this->SetDiffuseArrayName(nullptr);
   this->SetSpecularArrayName(nullptr);
   this->SetViewpointArrayName(nullptr);
@@ -646,6 +650,11 @@ int vtkMultiscaleOctreeBuilder::BuildFromFile(vtkMultiscaleOctree* output)
   const bool cloud = header.NumberOfFaces == 0;
   const double least =
     meshBytes + plod::LeastBuildMemory(header.NumberOfVertices, header.NumberOfFaces, cloud);
+  const bool octreeFile = this->OctreeFileName && *this->OctreeFileName;
+  if (octreeFile && !cloud && (least > limit || this->BuildInPieces))
+  {
+    return this->BuildFromFileInPieces(output);
+  }
   if (least > limit)
   {
     const double perItem =
@@ -658,7 +667,8 @@ int vtkMultiscaleOctreeBuilder::BuildFromFile(vtkMultiscaleOctree* output)
                   << " MiB. At about " << static_cast<long long>(perItem) << " bytes per "
                   << (cloud ? "point" : "face") << ", at most "
                   << static_cast<long long>(limit / perItem) << (cloud ? " points" : " faces")
-                  << " fit; raise MemoryLimit on a machine with more memory. Nothing was read. "
+                  << " fit; raise MemoryLimit on a machine with more memory, or set "
+                  << "OctreeFileName to build it in pieces into that file. Nothing was read. "
                   << "Empty octree.");
     return 1;
   }
@@ -727,6 +737,110 @@ int vtkMultiscaleOctreeBuilder::BuildFromFile(vtkMultiscaleOctree* output)
     return 1;
   }
   return this->RunBuild(in, false, limit - held, buildProgress, output);
+}
+
+//------------------------------------------------------------------------------
+int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* output)
+{
+  constexpr double MiB = 1024.0 * 1024.0;
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+  const std::string file = this->FileName, octreeFile = this->OctreeFileName;
+  // progress: the split's steps (reading the file, its passes, the merge) a third, the builds
+  // most of the rest, the write the end; never backwards (a step may come again)
+  double shown = 0;
+  auto progress = [this, &shown](double f, const char* step) {
+    static const char* const steps[] = { "reading the file", "bounds", "cells", "halo",
+      "piece sizes", "pieces", "merging the pieces" };
+    const std::string s = step;
+    double at = 0.9, share = 0.1; // writing the file
+    if (s == "building the pieces")
+    {
+      at = 1.0 / 3.0;
+      share = 0.9 - at;
+    }
+    for (int k = 0; k < 7; ++k)
+    {
+      if (s == steps[k])
+      {
+        at = k / 21.0;
+        share = 1.0 / 21.0;
+      }
+    }
+    shown = std::max(shown, at + share * f);
+    this->UpdateProgress(shown);
+    return !this->GetAbortExecute();
+  };
+  plod::PiecesParameters split;
+  split.MemoryLimit = this->GetEffectiveMemoryLimit() * MiB;
+  const size_t slash = octreeFile.find_last_of('/');
+  split.TemporaryDirectory = slash == std::string::npos
+    ? std::string(".")
+    : octreeFile.substr(0, std::max<size_t>(slash, 1));
+  split.Progress = progress;
+  plod::PLYPieces pieces;
+  std::string why;
+  if (!pieces.Open(file, split, &why))
+  {
+    if (this->GetAbortExecute())
+    {
+      vtkWarningMacro("Build aborted while splitting '" << file << "': empty octree.");
+      return 1;
+    }
+    vtkErrorMacro("Cannot build '" << file << "' in pieces: " << why << ". Empty octree.");
+    return 1;
+  }
+  timer->StopTimer();
+  this->ReadTime = timer->GetElapsedTime(); // the split: the file read and put in pieces
+  timer->StartTimer();
+  if (this->FinestLevel >= 0 && this->FinestLevel != pieces.GetAgreement().FinestLevel)
+  {
+    vtkWarningMacro("Built in pieces at the file's own finest level "
+      << pieces.GetAgreement().FinestLevel << ", not " << this->FinestLevel << ".");
+  }
+  plod::AssemblyParameters assembly;
+  assembly.Rule = this->VertexRule == VERTEX_QEF ? plod::VertexRule::QEF : plod::VertexRule::Mean;
+  assembly.MemoryLimit = split.MemoryLimit;
+  assembly.Progress = progress;
+  if (this->MultiThreaded)
+  {
+    assembly.Parallel = [](int64_t n, int64_t grain,
+                          const std::function<void(int64_t, int64_t)>& body) {
+      vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+        [&body](vtkIdType b, vtkIdType e) { body(b, e); });
+    };
+  }
+  plod::AssemblyReport report;
+  if (!plod::WriteOctreeFileFromPieces(pieces, octreeFile, assembly, &report, &why))
+  {
+    if (this->GetAbortExecute())
+    {
+      vtkWarningMacro("Build aborted while building '" << file << "' in pieces: empty octree.");
+      return 1;
+    }
+    vtkErrorMacro("Cannot build '" << file << "' in pieces into '" << octreeFile << "': " << why
+                                   << ". Empty octree.");
+    return 1;
+  }
+  vtkNew<vtkMultiscaleOctreeReader> reader;
+  reader->SetFileName(octreeFile.c_str());
+  reader->Update();
+  if (reader->GetOutput()->GetNumberOfNodes() == 0)
+  {
+    vtkErrorMacro("The octree file '" << octreeFile << "' built in pieces does not read back: "
+                                      << reader->GetErrorMessage() << ". Empty octree.");
+    return 1;
+  }
+  output->ShallowCopy(reader->GetOutput());
+  this->NumberOfInputTriangles = pieces.GetNumberOfUsableTriangles();
+  this->NumberOfSkippedTriangles = pieces.GetAgreement().NumberOfSkippedTriangles;
+  this->FinestLevelReason = "built in " + std::to_string(pieces.GetNumberOfPieces()) +
+    " pieces of level " + std::to_string(pieces.GetOwnershipLevel()) +
+    ", at the level the pieces agreed on";
+  timer->StopTimer();
+  this->BuildTime = timer->GetElapsedTime(); // the pieces' builds and the file
+  this->UpdateProgress(1.0);
+  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -815,6 +929,9 @@ void vtkMultiscaleOctreeBuilder::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "OctreeFileName: " << (this->OctreeFileName ? this->OctreeFileName : "(none)")
+     << "\n";
+  os << indent << "BuildInPieces: " << (this->BuildInPieces ? "On" : "Off") << "\n";
   os << indent << "FinestLevel: " << this->FinestLevel << "\n";
   os << indent << "VertexRule: " << (this->VertexRule == VERTEX_QEF ? "QEF" : "Mean") << "\n";
   os << indent

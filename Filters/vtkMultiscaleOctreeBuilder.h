@@ -172,6 +172,25 @@ public:
 
   ///@{
   /**
+   * An octree file to build a PLY FileName into, in pieces, when the memory limit cannot hold
+   * its in-memory build (default: none, such a file is refused), or always when BuildInPieces is
+   * on. The file is split by space into pieces that each fit the limit, built one after the
+   * other and written to this file (plodPieces.h, plodPieceAssembly.h; temporary files beside
+   * it, removed at the end); the output is then the file, mapped, as vtkMultiscaleOctreeReader
+   * gives it. Levels coarser than the pieces' level hold structure only
+   * (vtkMultiscaleOctree::GetCoarsestDrawnLevel); finer ones are the in-memory build's, node
+   * for node. FinestLevel, the vertex rule and the threads apply; the root cube is the file's
+   * own. An existing file is replaced only once the new one is complete and verified.
+   */
+  vtkSetFilePathMacro(OctreeFileName);
+  vtkGetFilePathMacro(OctreeFileName);
+  vtkSetMacro(BuildInPieces, bool);
+  vtkGetMacro(BuildInPieces, bool);
+  vtkBooleanMacro(BuildInPieces, bool);
+  ///@}
+
+  ///@{
+  /**
    * Finest level `L_m`. -1 (default) chooses it from the input (see the class docs); 0 builds
    * the root alone; at most GetMaximumFinestLevel(). Other values are reported as errors.
    */
@@ -282,7 +301,7 @@ public:
   /// Wall-clock seconds of the last build (the octree's construction).
   vtkGetMacro(BuildTime, double);
   /// Wall-clock seconds the last execution took to take its input before the build: reading
-  /// FileName, or gathering the input's arrays.
+  /// FileName (or, built in pieces, splitting it), or gathering the input's arrays.
   vtkGetMacro(ReadTime, double);
   /// Surface points flagged as ghosts (the input's vtkGhostType) in the last build.
   vtkGetMacro(NumberOfGhostPoints, vtkIdType);
@@ -323,12 +342,16 @@ protected:
   ///@}
   /// The build from FileName: header, memory check, streaming read, build.
   int BuildFromFile(vtkMultiscaleOctree* output);
+  /// The build of FileName in pieces into OctreeFileName, then the file read into `output`.
+  int BuildFromFileInPieces(vtkMultiscaleOctree* output);
   /// Builds the octree of `in` into `output` within `memoryLimit` bytes and reports what the
   /// build found.
   int RunBuild(const plod::BuildInput& in, bool hasMaterial, double memoryLimit,
     const std::function<bool(double)>& progress, vtkMultiscaleOctree* output);
 
   char* FileName;
+  char* OctreeFileName = nullptr;
+  bool BuildInPieces = false;
   int FinestLevel;
   double EstimatedMemory;
   int VertexRule;

@@ -20,8 +20,6 @@
 #include "plodMeshFileCheck.h"
 #include "plodOctreeBuilder.h"
 #include "plodPLYRead.h"
-#include "plodPieceAssembly.h"
-#include "plodPieces.h"
 #include "plodTestUtilities.h"
 
 #include "vtkCallbackCommand.h"
@@ -36,7 +34,6 @@
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
-#include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -73,48 +70,8 @@ double ParseMiB(const std::string& text)
   return scale > 0 ? value * scale : -1;
 }
 
-/// Prints the progress of the steps of a build in pieces: each step's name when it starts,
-/// then every tenth with the time spent on it and the time left at this pace.
-std::function<bool(double, const char*)> StepProgress()
-{
-  struct State
-  {
-    std::string Step;
-    std::chrono::steady_clock::time_point Start;
-    int Shown = 0;
-  };
-  auto state = std::make_shared<State>();
-  return [state](double f, const char* step) {
-    const auto now = std::chrono::steady_clock::now();
-    if (state->Step != step)
-    {
-      state->Step = step;
-      state->Start = now;
-      state->Shown = 0;
-    }
-    const int tenth = static_cast<int>(f * 10.0 + 1e-9);
-    if (tenth > state->Shown && f > 0)
-    {
-      state->Shown = tenth;
-      const double spent = std::chrono::duration<double>(now - state->Start).count();
-      std::printf("%s: %3d %%, %.1f s spent, about %.1f s left\n", step,
-        static_cast<int>(100 * f + 0.5), spent, spent * (1.0 - f) / f);
-      std::fflush(stdout);
-    }
-    return true;
-  };
-}
-
-/// The folder of a file name ("." for a bare name).
-std::string FolderOf(const std::string& file)
-{
-  const size_t slash = file.find_last_of('/');
-  return slash == std::string::npos ? std::string(".") : file.substr(0, std::max<size_t>(slash, 1));
-}
-
-/// Builds the PLY model `ply` piece by piece within `limitMiB` into the octree file `save`.
-bool BuildInPieces(const std::string& ply, const std::string& save, double limitMiB, bool serial,
-  const plod::PLYSummary& header)
+/// What a build of `header`'s model in pieces into `save` will take on disk, printed.
+void PrintPiecesEstimate(const plod::PLYSummary& header, const std::string& save, double limitMiB)
 {
   const double MiB = 1024.0 * 1024.0;
   // temporary disk at its peak: the points and triangles (as read, then in pieces with their
@@ -124,53 +81,10 @@ bool BuildInPieces(const std::string& ply, const std::string& save, double limit
   const double file = plod::EstimateOctreeBytes(header.NumberOfVertices, header.NumberOfFaces);
   const double temporary =
     vertexBytes * double(header.NumberOfVertices) + 40.0 * double(header.NumberOfFaces) + file;
-  std::printf("building in pieces within %.0f MiB: about %.0f MiB of temporary files in %s, an "
-              "octree file of about %.0f MiB\n",
-    limitMiB, temporary / MiB, FolderOf(save).c_str(), file / MiB);
+  std::printf("building in pieces within %.0f MiB into %s: about %.0f MiB of temporary files "
+              "beside it, a file of about %.0f MiB\n",
+    limitMiB, save.c_str(), temporary / MiB, file / MiB);
   std::fflush(stdout);
-  const auto progress = StepProgress();
-  plod::PiecesParameters split;
-  split.MemoryLimit = limitMiB * MiB;
-  split.TemporaryDirectory = FolderOf(save);
-  split.Progress = progress;
-  const auto start = std::chrono::steady_clock::now();
-  plod::PLYPieces pieces;
-  std::string why;
-  if (!pieces.Open(ply, split, &why))
-  {
-    std::fprintf(
-      stderr, "%s: %s\ncannot build '%s' in pieces\n", ply.c_str(), why.c_str(), ply.c_str());
-    return false;
-  }
-  std::printf("pieces: %d of the cells of level %d, finest level %d\n", pieces.GetNumberOfPieces(),
-    pieces.GetOwnershipLevel(), pieces.GetAgreement().FinestLevel);
-  plod::AssemblyParameters assembly;
-  assembly.MemoryLimit = split.MemoryLimit;
-  assembly.Progress = progress;
-  if (!serial)
-  {
-    assembly.Parallel = [](int64_t n, int64_t grain,
-                          const std::function<void(int64_t, int64_t)>& body) {
-      vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
-        [&body](vtkIdType b, vtkIdType e) { body(b, e); });
-    };
-  }
-  plod::AssemblyReport report;
-  if (!plod::WriteOctreeFileFromPieces(pieces, save, assembly, &report, &why))
-  {
-    std::fprintf(stderr, "cannot save the octree: %s\n", why.c_str());
-    return false;
-  }
-  std::printf("built in pieces: %.1f s, %lld triangles, %.0f MiB of temporary files at most, "
-              "%.1f bytes per triangle in the file; levels above %d hold structure only\n",
-    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-    static_cast<long long>(report.NumberOfTriangles),
-    double(pieces.GetPeakTemporaryBytes() + report.PeakTemporaryBytes) / MiB,
-    double(report.FileBytes) / double(std::max<int64_t>(1, report.NumberOfTriangles)),
-    report.CoarsestDrawnLevel);
-  std::printf("saved: %s (open it with this program, the viewer or vtkMultiscaleOctreeReader)\n",
-    save.c_str());
-  return true;
 }
 
 /// Prints a filter's progress every tenth, with the time spent and the time left at this pace.
@@ -365,10 +279,10 @@ int main(int argc, char* argv[])
       const bool fits = least <= builder->GetEffectiveMemoryLimit() * MiB;
       if (!save.empty() && (inPieces || !fits))
       {
-        if (!BuildInPieces(file, save, builder->GetEffectiveMemoryLimit(), serial, header))
-        {
-          return 1;
-        }
+        // the builder writes the file, and its output is the file
+        PrintPiecesEstimate(header, save, builder->GetEffectiveMemoryLimit());
+        builder->SetOctreeFileName(save.c_str());
+        builder->SetBuildInPieces(inPieces);
         builtInPieces = true;
       }
       else if (!fits)
@@ -422,37 +336,23 @@ int main(int argc, char* argv[])
         static_cast<long long>(model->GetNumberOfPolys() + model->GetNumberOfStrips()));
       builder->SetInputData(model);
     }
-    if (builtInPieces)
+    builder->Update();
+    octree = builder->GetOutput();
+    if (octree->GetNumberOfNodes() == 0)
     {
-      reader->SetFileName(save.c_str());
-      reader->Update();
-      octree = reader->GetOutput();
-      if (octree->GetNumberOfNodes() == 0)
-      {
-        std::fprintf(stderr, "%s\n", reader->GetErrorMessage());
-        return 1;
-      }
+      std::fprintf(stderr, "the octree is empty (see the builder's messages above)\n");
+      return 1;
     }
-    else
-    {
-      builder->Update();
-      octree = builder->GetOutput();
-      if (octree->GetNumberOfNodes() == 0)
-      {
-        std::fprintf(stderr, "the octree is empty (see the builder's messages above)\n");
-        return 1;
-      }
-      std::printf("finest level: %s\n", builder->GetFinestLevelReason());
-      if (ply)
-        std::printf("read: %.1f ms, %lld triangles\n", builder->GetReadTime() * 1e3,
-          static_cast<long long>(builder->GetNumberOfInputTriangles()));
-      std::printf("build: %.1f ms (%s), %lld triangles kept, %lld skipped, %lld nodes not "
-                  "topologically safe\n",
-        builder->GetBuildTime() * 1e3, serial ? "1 thread" : "vtkSMPTools",
-        static_cast<long long>(octree->GetNumberOfSurfaceTriangles()),
-        static_cast<long long>(builder->GetNumberOfSkippedTriangles()),
-        static_cast<long long>(builder->GetNumberOfUnsafeNodes()));
-    }
+    std::printf("finest level: %s\n", builder->GetFinestLevelReason());
+    if (ply)
+      std::printf("read: %.1f ms, %lld triangles\n", builder->GetReadTime() * 1e3,
+        static_cast<long long>(builder->GetNumberOfInputTriangles()));
+    std::printf("build: %.1f ms (%s), %lld triangles kept, %lld skipped, %lld nodes not "
+                "topologically safe\n",
+      builder->GetBuildTime() * 1e3, serial ? "1 thread" : "vtkSMPTools",
+      static_cast<long long>(octree->GetNumberOfSurfaceTriangles()),
+      static_cast<long long>(builder->GetNumberOfSkippedTriangles()),
+      static_cast<long long>(builder->GetNumberOfUnsafeNodes()));
   }
   std::printf("octree: %lld nodes, finest level %d, root edge %g at (%g, %g, %g)\n",
     static_cast<long long>(octree->GetNumberOfNodes()), octree->GetFinestLevel(),
@@ -461,7 +361,13 @@ int main(int argc, char* argv[])
     octree->GetActualMemorySize() / 1024.0,
     octree->GetActualMemorySize() * 1024.0 /
       std::max<vtkIdType>(1, octree->GetNumberOfSurfaceTriangles()));
-  if (!save.empty() && !builtInPieces)
+  if (builtInPieces)
+  {
+    std::printf("saved: %s, built in pieces (open it with this program, the viewer or "
+                "vtkMultiscaleOctreeReader)\n",
+      save.c_str());
+  }
+  else if (!save.empty())
   {
     vtkNew<vtkMultiscaleOctreeWriter> writer;
     writer->SetInputData(octree);

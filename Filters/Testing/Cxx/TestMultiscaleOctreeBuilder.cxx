@@ -2182,6 +2182,75 @@ TEST(MultiscaleOctreeBuilder, AFileBuiltInPiecesDrawsAsItsInCoreBuildFromLevelK)
   std::remove(ply.c_str());
 }
 
+// With an OctreeFileName, a PLY file too large for the memory limit is built in pieces into that
+// file and the output is the file; BuildInPieces builds that way whatever the size; an abort
+// leaves no file.
+TEST(MultiscaleOctreeBuilder, AFileTooLargeForTheLimitIsBuiltInPiecesIntoTheOctreeFile)
+{
+  auto blob = plodtest::MakeBlob(5, 200, 0.3);
+  const std::string ply = WritePLYFile(blob, "too-large", true);
+  const std::string octreeFile = ply + ".plod";
+  for (bool forced : { false, true })
+  {
+    vtkNew<vtkMultiscaleOctreeBuilder> builder;
+    vtkNew<plodtest::ErrorRecorder> errors;
+    builder->AddObserver(vtkCommand::ErrorEvent, errors);
+    builder->AddObserver(vtkCommand::WarningEvent, errors);
+    std::vector<double> progress;
+    vtkNew<vtkCallbackCommand> watch;
+    watch->SetClientData(&progress);
+    watch->SetCallback([](vtkObject*, unsigned long, void* d, void* call) {
+      static_cast<std::vector<double>*>(d)->push_back(*static_cast<double*>(call));
+    });
+    builder->AddObserver(vtkCommand::ProgressEvent, watch);
+    builder->SetFileName(ply.c_str());
+    builder->SetMemoryLimit(forced ? 4096 : 3); // MiB: the in-memory build needs more than 3
+    builder->SetBuildInPieces(forced);
+    builder->Update();
+    if (!forced) // without a file: refused, naming the way; forced: built in memory
+    {
+      ASSERT_EQ(builder->GetOutput()->GetNumberOfNodes(), 0) << "refused without a file";
+      EXPECT_TRUE(errors->HasError("OctreeFileName")) << "the refusal names the way";
+    }
+    EXPECT_EQ(builder->GetOutput()->GetCoarsestDrawnLevel(), 0);
+    builder->SetOctreeFileName(octreeFile.c_str());
+    progress.clear();
+    builder->Update();
+    vtkMultiscaleOctree* out = builder->GetOutput();
+    ASSERT_GT(out->GetNumberOfNodes(), 0);
+    EXPECT_EQ(out->GetCoarsestDrawnLevel(), 6);
+    EXPECT_EQ(builder->GetNumberOfInputTriangles(), blob->GetNumberOfPolys());
+    vtkNew<vtkMultiscaleOctreeReader> reader;
+    reader->SetFileName(octreeFile.c_str());
+    reader->Update();
+    EXPECT_EQ(reader->GetOutput()->GetNumberOfNodes(), out->GetNumberOfNodes());
+    ASSERT_FALSE(progress.empty());
+    EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end()));
+    EXPECT_EQ(progress.back(), 1.0);
+    std::remove(octreeFile.c_str());
+  }
+  // an abort while building the pieces: an empty octree, a warning, no file
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  vtkNew<plodtest::ErrorRecorder> errors;
+  builder->AddObserver(vtkCommand::WarningEvent, errors);
+  vtkNew<vtkCallbackCommand> stop;
+  stop->SetClientData(builder.GetPointer());
+  stop->SetCallback([](vtkObject*, unsigned long, void* d, void* call) {
+    if (*static_cast<double*>(call) > 0.5)
+      static_cast<vtkMultiscaleOctreeBuilder*>(d)->SetAbortExecute(1);
+  });
+  builder->AddObserver(vtkCommand::ProgressEvent, stop);
+  builder->SetFileName(ply.c_str());
+  builder->SetOctreeFileName(octreeFile.c_str());
+  builder->BuildInPiecesOn();
+  builder->Update();
+  EXPECT_EQ(builder->GetOutput()->GetNumberOfNodes(), 0);
+  EXPECT_FALSE(errors->Warnings.empty());
+  struct stat st;
+  EXPECT_NE(stat(octreeFile.c_str(), &st), 0) << "no file after an abort";
+  std::remove(ply.c_str());
+}
+
 TEST(MultiscaleOctreeBuilder, BuildFromAFileRefusesWhatCannotFitOrBeRead)
 {
   auto blob = plodtest::MakeBlob(6, 40, 0.2);
