@@ -213,9 +213,9 @@ double PieceBytesPerTriangle(bool normals)
   const double kept = 24.0 + 0.5 * (point + 1.0);
   const double merge = 48.0 + 0.5 * (point + 32.0 + 8.0) + kept;
   // the build of the piece, beside the piece it reads: its octree and work arrays for half a
-  // point and a quarter node per triangle (the automatic level aims at 4 points a leaf; a
-  // quarter node is twice that), per 1000 triangles
-  const double build = EstimateBuildMemory(500, 1000, 250, false) / 1000.0 + kept;
+  // point and 0.57 node per triangle, per 1000 triangles (every point in a leaf of its own,
+  // and the ancestors: the pieces share the whole's finest level, which may be deep for them)
+  const double build = EstimateBuildMemory(500, 1000, 570, false) / 1000.0 + kept;
   return std::max(merge, build);
 }
 
