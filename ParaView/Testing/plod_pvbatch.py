@@ -361,6 +361,21 @@ def octree_filters(out):
     check(lod.GetNumberOfOctreeTriangles() == cells and lod.GetNumberOfTriangles() > 0,
           "the octree of the PLY file holds its %d triangles (%d) and draws %d"
           % (cells, lod.GetNumberOfOctreeTriangles(), lod.GetNumberOfTriangles()))
+
+    # the same file built in pieces into an octree file (the way of a scan larger than memory)
+    pieces_file = os.path.join(out, "contour-pieces.plod")
+    if os.path.exists(pieces_file):
+        os.remove(pieces_file)
+    from_pieces = MultiscaleOctreeFromPLYFile(FileName=ply, OctreeFileName=pieces_file,
+                                              BuildInPieces=1)
+    Hide(from_ply, view)
+    shown = Show(from_pieces, view)
+    Render(view)
+    lod = LOD(shown)
+    check(os.path.exists(pieces_file) and lod.GetNumberOfOctreeTriangles() == cells
+          and lod.GetNumberOfTriangles() > 0,
+          "built in pieces into %s: its %d triangles (%d), %d drawn"
+          % (pieces_file, cells, lod.GetNumberOfOctreeTriangles(), lod.GetNumberOfTriangles()))
     print("octree filters: ok", flush=True)
 
 
