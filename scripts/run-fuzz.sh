@@ -17,6 +17,7 @@ target="${PLOD_FUZZ_TARGET:-FuzzOctreeBuild}"
 case "$target" in
   FuzzOctreeBuild) seeds=Testing/Fuzz/corpus ;;
   FuzzOctreeFile) seeds=Testing/Fuzz/corpus-file ;;
+  FuzzPLYPieces) seeds=Testing/Fuzz/corpus-ply ;;
   *) echo "run-fuzz.sh: unknown PLOD_FUZZ_TARGET '$target'" >&2; exit 2 ;;
 esac
 for tool in clang-14 clang++-14 cmake ninja; do

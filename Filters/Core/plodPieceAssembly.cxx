@@ -552,7 +552,10 @@ private:
     Part part;
     part.Values = static_cast<int64_t>(values.size());
     part.Memory.resize(values.size() * sizeof(T));
-    std::memcpy(part.Memory.data(), values.data(), part.Memory.size());
+    if (!values.empty())
+    {
+      std::memcpy(part.Memory.data(), values.data(), part.Memory.size());
+    }
     return part;
   }
 
