@@ -778,6 +778,15 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
     ? std::string(".")
     : octreeFile.substr(0, std::max<size_t>(slash, 1));
   split.Progress = progress;
+  plod::ParallelFor parallel = plod::SerialFor;
+  if (this->MultiThreaded)
+  {
+    parallel = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
+      vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+        [&body](vtkIdType b, vtkIdType e) { body(b, e); });
+    };
+  }
+  split.Parallel = parallel;
   plod::PLYPieces pieces;
   std::string why;
   if (!pieces.Open(file, split, &why))
@@ -802,14 +811,7 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
   assembly.Rule = this->VertexRule == VERTEX_QEF ? plod::VertexRule::QEF : plod::VertexRule::Mean;
   assembly.MemoryLimit = split.MemoryLimit;
   assembly.Progress = progress;
-  if (this->MultiThreaded)
-  {
-    assembly.Parallel = [](int64_t n, int64_t grain,
-                          const std::function<void(int64_t, int64_t)>& body) {
-      vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
-        [&body](vtkIdType b, vtkIdType e) { body(b, e); });
-    };
-  }
+  assembly.Parallel = parallel;
   plod::AssemblyReport report;
   if (!plod::WriteOctreeFileFromPieces(pieces, octreeFile, assembly, &report, &why))
   {

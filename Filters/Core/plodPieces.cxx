@@ -31,6 +31,9 @@ using tempfile::Appender;
 using tempfile::ReadBack;
 using tempfile::SystemError;
 
+/// Pieces merged at once (PieceBytesPerTriangle counts their memory).
+constexpr int MergedAtOnce = 2;
+
 /// Triangles read from the triangle file at a time.
 constexpr int64_t BlockTriangles = int64_t(1) << 18;
 
@@ -205,13 +208,14 @@ void NumberUsedPoints(
 //------------------------------------------------------------------------------
 double PieceBytesPerTriangle(bool normals)
 {
-  // MergePoints at its peak, per triangle received (about half a point each): the triangles'
-  // indices (3 x int64, then sorted: as many again), half a point read (position and normal as
-  // doubles), sorted (a key of 3 x int64 and an index) and mapped (an int64), half a point kept
-  // (position, normal, ghost flag), the triangles kept (3 x int64)
+  // MergePoints at its peak, per triangle received, for each of the pieces merged at once (about
+  // half a point each): the triangles' indices (3 x int64, then sorted: as many again), half a
+  // point read (position and normal as doubles), sorted (a key of 3 x int64 and an index) and
+  // mapped (an int64), half a point kept (position, normal, ghost flag), the triangles kept (3 x
+  // int64)
   const double point = 24.0 + (normals ? 24.0 : 0.0);
   const double kept = 24.0 + 0.5 * (point + 1.0);
-  const double merge = 48.0 + 0.5 * (point + 32.0 + 8.0) + kept;
+  const double merge = MergedAtOnce * (48.0 + 0.5 * (point + 32.0 + 8.0) + kept);
   // the build of the piece, beside the piece it reads: its octree and work arrays for half a
   // point and 0.57 node per triangle, per 1000 triangles (every point in a leaf of its own,
   // and the ancestors: the pieces share the whole's finest level, which may be deep for them)
@@ -606,31 +610,55 @@ struct PLYPieces::Internals
     int64_t counts[MaxFinestLevel + 2] = {};
     this->PiecePoints.assign(this->Pieces, 0);
     this->PieceHalo.assign(this->Pieces, 0);
-    for (int p = 0; p < this->Pieces; ++p)
+    for (int first = 0; first < this->Pieces; first += MergedAtOnce)
     {
-      if (!this->Report(double(p) / double(this->Pieces), "merging the pieces"))
+      if (!this->Report(double(first) / double(this->Pieces), "merging the pieces"))
       {
         return false;
       }
-      PartitionResult r;
-      std::copy(this->Agreed.RootOrigin, this->Agreed.RootOrigin + 3, r.RootOrigin);
-      r.RootEdge = this->Agreed.RootEdge;
-      if (!this->MergePiece(p, &r))
+      // MergedAtOnce pieces at a time, over the caller's threads
+      const int n = std::min(MergedAtOnce, this->Pieces - first);
+      std::vector<PartitionResult> merged(n);
+      std::vector<std::string> why(n);
+      std::vector<char> ok(n, 0);
+      for (PartitionResult& r : merged)
       {
-        return false;
+        std::copy(this->Agreed.RootOrigin, this->Agreed.RootOrigin + 3, r.RootOrigin);
+        r.RootEdge = this->Agreed.RootEdge;
       }
-      this->Agreed.NumberOfBoundaryEdges += partition::CountOpenEdges(r);
-      int64_t owned[MaxFinestLevel + 2] = {};
-      partition::CountOwnedCells(r, this->Cells, owned);
-      for (int l = 0; l < MaxFinestLevel + 2; ++l)
+      this->Params.Parallel(n, 1, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i)
+        {
+          ok[i] = this->MergePiece(first + int(i), &merged[i], &why[i]);
+        }
+      });
+      this->PointMap.Release();
+      this->NormalMap.Release();
+      for (int i = 0; i < n; ++i)
       {
-        counts[l] += owned[l];
+        this->TemporaryBytes -= 12 * this->PieceTriangles[first + i]; // its ids, removed
+        if (!ok[i])
+        {
+          return this->Fail(why[i]);
+        }
       }
-      this->PiecePoints[p] = static_cast<int64_t>(r.Ghost.size());
-      this->PieceHalo[p] = r.NumberOfHaloTriangles;
-      if (!this->KeepPiece(p, r))
+      for (int i = 0; i < n; ++i)
       {
-        return false;
+        const int p = first + i;
+        const PartitionResult& r = merged[i];
+        this->Agreed.NumberOfBoundaryEdges += partition::CountOpenEdges(r);
+        int64_t owned[MaxFinestLevel + 2] = {};
+        partition::CountOwnedCells(r, this->Cells, owned);
+        for (int l = 0; l < MaxFinestLevel + 2; ++l)
+        {
+          counts[l] += owned[l];
+        }
+        this->PiecePoints[p] = static_cast<int64_t>(r.Ghost.size());
+        this->PieceHalo[p] = r.NumberOfHaloTriangles;
+        if (!this->KeepPiece(p, r))
+        {
+          return false;
+        }
       }
     }
     if (this->Params.RequestedFinestLevel >= 0)
@@ -645,25 +673,29 @@ struct PLYPieces::Internals
       this->Fail("inconsistent occupied-cell counts over the pieces: no common level");
   }
 
-  bool MergePiece(int p, PartitionResult* r)
+  /// Piece p merged from its ids file (which it removes); distinct pieces may be merged at
+  /// once on different threads. False with `why`.
+  bool MergePiece(int p, PartitionResult* r, std::string* why) const
   {
     const std::string path = this->PieceFile(p, ".ids");
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0)
     {
-      return this->Fail(SystemError("cannot open the temporary file", path));
+      *why = SystemError("cannot open the temporary file", path);
+      return false;
     }
     std::vector<uint32_t> ids;
-    const bool read = ReadBack(fd, 3 * this->PieceTriangles[p], &ids, path, this->Why);
+    const bool read = ReadBack(fd, 3 * this->PieceTriangles[p], &ids, path, why);
     ::close(fd);
     if (!read)
     {
       return false;
     }
-    this->RemoveFile(path);
+    ::unlink(path.c_str());
     if (ids.size() >= (size_t(1) << 32))
     {
-      return this->Fail("piece " + std::to_string(p) + " has more than 2^32 corners");
+      *why = "piece " + std::to_string(p) + " has more than 2^32 corners";
+      return false;
     }
     // the points the piece uses, in the order of their index in the file, and each corner's
     // index among them
@@ -682,8 +714,6 @@ struct PLYPieces::Internals
     }
     std::vector<uint32_t>().swap(ids);
     std::vector<uint32_t>().swap(used);
-    this->PointMap.Release();
-    this->NormalMap.Release();
     partition::MergePoints(points, normals, triangles, this->Cells, this->Owner, p, r);
     return true;
   }

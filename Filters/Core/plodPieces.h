@@ -35,6 +35,7 @@
 #ifndef plodPieces_h
 #define plodPieces_h
 
+#include "plodParallel.h"
 #include "plodPartition.h"
 
 #include <cstdint>
@@ -62,10 +63,13 @@ struct PiecesParameters
   /// Called with the fraction done of the current step, in [0, 1], and the step's name; return
   /// false to abort.
   std::function<bool(double, const char*)> Progress;
+  /// How pieces are merged two at a time (each on a range of its own); SerialFor: one after
+  /// the other.
+  ParallelFor Parallel = SerialFor;
 };
 
-/// Bytes per triangle a piece's merge (MergeCorners) and build take, the larger of the two;
-/// pieces are sized with it.
+/// Bytes per triangle a piece's merge (MergePoints, two pieces at once) and build take, the
+/// larger of the two; pieces are sized with it.
 double PieceBytesPerTriangle(bool normals);
 
 /// A PLY file split into pieces (see the file's documentation).

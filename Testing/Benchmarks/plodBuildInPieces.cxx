@@ -145,6 +145,7 @@ int main(int argc, char* argv[])
     return true;
   };
 
+  params.Parallel = ThreadFor(threads);
   const Clock::time_point start = Clock::now();
   plod::PLYPieces pieces;
   std::string why;

@@ -29,6 +29,7 @@
 #include <cstdio>
 #include <dirent.h>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <random>
@@ -577,6 +578,19 @@ std::vector<plod::PartitionResult> Pieces(const std::string& path, int pieces, i
   params.OwnershipLevel = k;
   params.NumberOfPieces = pieces;
   params.TemporaryDirectory = tmp;
+  // pieces merged on threads of their own, the later range first
+  params.Parallel = [](
+                      int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
+    std::vector<std::thread> threads;
+    for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
+    {
+      threads.emplace_back([&body, b, n, grain]() { body(b, std::min(n, b + grain)); });
+    }
+    for (std::thread& t : threads)
+    {
+      t.join();
+    }
+  };
   std::string why;
   EXPECT_TRUE(s.Open(path, params, &why)) << why;
   std::vector<plod::PartitionResult> out(s.GetNumberOfPieces());
