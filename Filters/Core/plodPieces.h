@@ -19,10 +19,10 @@
  *    (a non-finite corner is skipped and counted), the root cube, triangles per level-k cell,
  *    the owners, the cells each piece needs whole;
  * 3. each triangle's indices appended to the file of every piece that needs it;
- * 4. each piece merged (plod::partition::MergePoints over the points it uses) and kept in its
- *    own file, its owned
- *    cells and open edges counted, so that all pieces agree on the finest level and on whether
- *    the whole is closed before any is built.
+ * 4. each piece merged (plod::partition::MergePoints over the points it uses; two pieces at a
+ *    time over PiecesParameters::Parallel) and kept in its own file, its owned cells and open
+ *    edges counted, so that all pieces agree on the finest level and on whether the whole is
+ *    closed before any is built.
  * Where two points of the file have the same position to the last bit, the merge keeps the
  * normal of the one first in the file, a process the one it received first: only then can a
  * piece's normal differ from a rank's.
