@@ -42,6 +42,19 @@ namespace
 {
 /// Share of the progress of a build from a file that its reading takes.
 constexpr double ReadShare = 0.25;
+
+/// The kernels' ranges over vtkSMPTools, or one after the other.
+plod::ParallelFor RangesFor(bool multiThreaded)
+{
+  if (!multiThreaded)
+  {
+    return plod::SerialFor;
+  }
+  return [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
+    vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+      [&body](vtkIdType b, vtkIdType e) { body(b, e); });
+  };
+}
 }
 
 namespace
@@ -778,15 +791,7 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
     ? std::string(".")
     : octreeFile.substr(0, std::max<size_t>(slash, 1));
   split.Progress = progress;
-  plod::ParallelFor parallel = plod::SerialFor;
-  if (this->MultiThreaded)
-  {
-    parallel = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
-      vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
-        [&body](vtkIdType b, vtkIdType e) { body(b, e); });
-    };
-  }
-  split.Parallel = parallel;
+  split.Parallel = RangesFor(this->MultiThreaded);
   plod::PLYPieces pieces;
   std::string why;
   if (!pieces.Open(file, split, &why))
@@ -811,7 +816,7 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
   assembly.Rule = this->VertexRule == VERTEX_QEF ? plod::VertexRule::QEF : plod::VertexRule::Mean;
   assembly.MemoryLimit = split.MemoryLimit;
   assembly.Progress = progress;
-  assembly.Parallel = parallel;
+  assembly.Parallel = split.Parallel;
   plod::AssemblyReport report;
   if (!plod::WriteOctreeFileFromPieces(pieces, octreeFile, assembly, &report, &why))
   {
@@ -859,14 +864,7 @@ int vtkMultiscaleOctreeBuilder::RunBuild(const plod::BuildInput& in, bool hasMat
   std::copy(this->RootCubeOrigin, this->RootCubeOrigin + 3, params.RootOrigin);
   params.RootEdge = this->RootCubeEdge;
 
-  plod::ParallelFor pfor = plod::SerialFor;
-  if (this->MultiThreaded)
-  {
-    pfor = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
-      vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
-        [&body](vtkIdType b, vtkIdType e) { body(b, e); });
-    };
-  }
+  const plod::ParallelFor pfor = RangesFor(this->MultiThreaded);
   plod::Allocator allocate;
   allocate.Nodes = [output](int64_t nodes, int64_t points, int64_t triangles) {
     output->Allocate(static_cast<vtkIdType>(nodes), static_cast<vtkIdType>(points),
