@@ -30,6 +30,7 @@
  * PLOD_FUZZ_VERBOSE=1 names the array and value each edit damages.
  */
 #include "plodCut.h"
+#include "plodFuzzCheck.h"
 #include "plodOctree.h"
 #include "plodOctreeBuilder.h"
 #include "plodOctreeFile.h"
@@ -50,16 +51,7 @@
 
 namespace
 {
-#define CHECK(cond, what)                                                                          \
-  do                                                                                               \
-  {                                                                                                \
-    if (!(cond))                                                                                   \
-    {                                                                                              \
-      std::fprintf(                                                                                \
-        stderr, "FuzzOctreeFile: check failed: %s (%s)\n", #cond, std::string(what).c_str());      \
-      std::abort();                                                                                \
-    }                                                                                              \
-  } while (0)
+#define CHECK(cond, what) PLOD_FUZZ_CHECK("FuzzOctreeFile", cond, what)
 
 void CheckPatches(const plod::OctreeView& v, const uint8_t* state, const std::string& what)
 {

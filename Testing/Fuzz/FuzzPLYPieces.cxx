@@ -13,6 +13,7 @@
  *
  * Build and run: docs/fuzzing.md (`PLOD_FUZZ_TARGET=FuzzPLYPieces bash scripts/run-fuzz.sh`).
  */
+#include "plodFuzzCheck.h"
 #include "plodOctree.h"
 #include "plodOctreeFile.h"
 #include "plodPieceAssembly.h"
@@ -27,16 +28,7 @@
 
 namespace
 {
-#define CHECK(cond, what)                                                                          \
-  do                                                                                               \
-  {                                                                                                \
-    if (!(cond))                                                                                   \
-    {                                                                                              \
-      std::fprintf(                                                                                \
-        stderr, "FuzzPLYPieces: check failed: %s (%s)\n", #cond, std::string(what).c_str());       \
-      std::abort();                                                                                \
-    }                                                                                              \
-  } while (0)
+#define CHECK(cond, what) PLOD_FUZZ_CHECK("FuzzPLYPieces", cond, what)
 
 /// Entries of a directory other than . and ..
 int CountEntries(const std::string& dir)
