@@ -2076,37 +2076,62 @@ TEST(MultiscaleOctreeBuilder, BuildFromAFileIsTheBuildOfItsMesh)
     GTEST_SKIP() << "../shared/data (Stanford scans) not found: the scan was left out";
 }
 
-// A file that cannot fit is refused from its header's counts before a row is read, with what
-// would fit; missing files, other formats and an input beside a file name are errors. Each
-// gives an empty octree.
-// A PLY file built in pieces into an octree file draws, through the reader, the selector and the
-// patch generator, what its in-core build draws with the selector's minimum level at the pieces'
-// level: the same cut and the same triangles, near and far, with the model in view (a cell above
-// level k that the frustum culls is drawn at a point of the surface, not at the whole's vertex).
-TEST(MultiscaleOctreeBuilder, AFileBuiltInPiecesDrawsAsItsInCoreBuildFromLevelK)
+/// The CutState array of an octree a selector or a cutter made.
+std::vector<uint8_t> CutStateOf(vtkMultiscaleOctree* cut)
 {
-  auto blob = plodtest::MakeBlob(7, 160, 0.3);
-  const std::string ply = WritePLYFile(blob, "pieces", true);
+  auto* a = vtkUnsignedCharArray::SafeDownCast(
+    cut->GetNodeData()->GetArray(vtkMultiscaleOctree::CutStateArrayName()));
+  return a ? std::vector<uint8_t>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues())
+           : std::vector<uint8_t>();
+}
+
+/// The triangles of a polydata as corner coordinates, in no order.
+std::multiset<std::array<double, 9>> TrianglesOf(vtkPolyData* pd)
+{
+  std::multiset<std::array<double, 9>> out;
+  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c)
+  {
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    pd->GetCellPoints(c, n, ids);
+    std::array<double, 9> t{};
+    for (int k = 0; k < 3 && k < n; ++k)
+    {
+      pd->GetPoint(ids[k], &t[3 * k]);
+    }
+    out.insert(t);
+  }
+  return out;
+}
+
+/// `ply` built in memory and in 3 pieces of level k into an octree file: through the reader,
+/// the selector and the patch generator, the file draws the in-core build's cut and triangles
+/// (the selector's minimum level at k) from three distances, the camera placed from the model's
+/// root cube with the model in view; a uniform cut above k stops at k.
+void ExpectPiecesDrawAsTheInCoreBuild(const std::string& ply, int k)
+{
   vtkNew<vtkMultiscaleOctreeBuilder> builder;
   builder->SetFileName(ply.c_str());
   builder->Update();
-  ASSERT_GT(builder->GetOutput()->GetNumberOfNodes(), 0);
+  vtkMultiscaleOctree* inCore = builder->GetOutput();
+  ASSERT_GT(inCore->GetNumberOfNodes(), 0);
 
-  const int k = 3;
   plod::PiecesParameters params;
   params.OwnershipLevel = k;
   params.NumberOfPieces = 3;
   plod::PLYPieces pieces;
   std::string why;
   ASSERT_TRUE(pieces.Open(ply, params, &why)) << why;
-  ASSERT_EQ(pieces.GetAgreement().FinestLevel, builder->GetOutput()->GetFinestLevel());
-  const std::string octreeFile = ply + ".plod";
+  ASSERT_EQ(pieces.GetAgreement().FinestLevel, inCore->GetFinestLevel());
+  const std::string octreeFile = (std::filesystem::temp_directory_path() /
+    ("plod_builder_" + std::to_string(::getpid()) + "_pieces.plod"))
+                                   .string();
   ASSERT_TRUE(plod::WriteOctreeFileFromPieces(pieces, octreeFile, {}, nullptr, &why)) << why;
   vtkNew<vtkMultiscaleOctreeReader> reader;
   reader->SetFileName(octreeFile.c_str());
   reader->Update();
   ASSERT_EQ(reader->GetOutput()->GetCoarsestDrawnLevel(), k);
-  ASSERT_EQ(reader->GetOutput()->GetNumberOfNodes(), builder->GetOutput()->GetNumberOfNodes());
+  ASSERT_EQ(reader->GetOutput()->GetNumberOfNodes(), inCore->GetNumberOfNodes());
 
   vtkNew<vtkPerceptualLODSelector> whole, built;
   whole->SetInputConnection(builder->GetOutputPort());
@@ -2115,13 +2140,21 @@ TEST(MultiscaleOctreeBuilder, AFileBuiltInPiecesDrawsAsItsInCoreBuildFromLevelK)
   vtkNew<vtkMultiscalePatchGenerator> wholePatches, builtPatches;
   wholePatches->SetInputConnection(whole->GetOutputPort());
   builtPatches->SetInputConnection(built->GetOutputPort());
+  // the camera from the model's root cube: its centre, at distances in half edges
+  double centre[3];
+  const double half = 0.5 * inCore->GetRootEdge();
+  for (int a = 0; a < 3; ++a)
+  {
+    centre[a] = inCore->GetOrigin()[a] + half;
+  }
   int refined = 0;
   for (double distance : { 2.5, 5.0, 12.0 })
   {
-    const double eye[3] = { 0.3 * distance, 0.2 * distance, distance }, focus[3] = { 0, 0, 0 };
+    const double away = distance * half / std::sqrt(1.0 + 0.09 + 0.04);
+    const double eye[3] = { centre[0] + 0.3 * away, centre[1] + 0.2 * away, centre[2] + away };
     vtkNew<vtkCamera> camera;
     camera->SetPosition(eye);
-    camera->SetFocalPoint(focus);
+    camera->SetFocalPoint(centre);
     camera->SetViewAngle(80);
     double planes[24];
     camera->GetFrustumPlanes(4.0 / 3.0, planes);
@@ -2133,34 +2166,14 @@ TEST(MultiscaleOctreeBuilder, AFileBuiltInPiecesDrawsAsItsInCoreBuildFromLevelK)
     }
     wholePatches->Update();
     builtPatches->Update();
-    auto state = [](vtkPerceptualLODSelector* s) {
-      auto* a = vtkUnsignedCharArray::SafeDownCast(
-        s->GetOutput()->GetNodeData()->GetArray(vtkMultiscaleOctree::CutStateArrayName()));
-      return std::vector<uint8_t>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
-    };
-    EXPECT_EQ(state(whole), state(built)) << "distance " << distance;
+    EXPECT_EQ(CutStateOf(whole->GetOutput()), CutStateOf(built->GetOutput()))
+      << "distance " << distance;
+    // the same triangles at the same places (a node's triangles may come in another order)
     vtkPolyData* a = wholePatches->GetOutput();
     vtkPolyData* b = builtPatches->GetOutput();
-    // the same triangles at the same places (a node's triangles may come in another order)
-    auto triangles = [](vtkPolyData* pd) {
-      std::multiset<std::array<double, 9>> out;
-      for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c)
-      {
-        vtkIdType n = 0;
-        const vtkIdType* ids = nullptr;
-        pd->GetCellPoints(c, n, ids);
-        std::array<double, 9> t{};
-        for (int k = 0; k < 3 && k < n; ++k)
-        {
-          pd->GetPoint(ids[k], &t[3 * k]);
-        }
-        out.insert(t);
-      }
-      return out;
-    };
     EXPECT_GT(a->GetNumberOfCells(), 0);
     EXPECT_EQ(a->GetNumberOfCells(), b->GetNumberOfCells()) << "distance " << distance;
-    EXPECT_TRUE(triangles(a) == triangles(b)) << "distance " << distance;
+    EXPECT_TRUE(TrianglesOf(a) == TrianglesOf(b)) << "distance " << distance;
     refined += whole->GetNumberOfCutNodes() > 1;
   }
   EXPECT_EQ(refined, 3);
@@ -2172,14 +2185,27 @@ TEST(MultiscaleOctreeBuilder, AFileBuiltInPiecesDrawsAsItsInCoreBuildFromLevelK)
   atK->SetLevel(k);
   coarse->Update();
   atK->Update();
-  auto cut = [](vtkMultiscaleOctreeCutter* c) {
-    auto* a = vtkUnsignedCharArray::SafeDownCast(
-      c->GetOutput()->GetNodeData()->GetArray(vtkMultiscaleOctree::CutStateArrayName()));
-    return std::vector<uint8_t>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
-  };
-  EXPECT_EQ(cut(coarse), cut(atK));
+  EXPECT_EQ(CutStateOf(coarse->GetOutput()), CutStateOf(atK->GetOutput()));
   std::remove(octreeFile.c_str());
+}
+
+// A PLY file built in pieces into an octree file draws what its in-core build draws from level
+// k on: a generated blob, and the Stanford bunny (a real scan). With the model in view: a cell
+// above level k that the frustum culls is drawn at a point of the surface, not at the whole's
+// vertex.
+TEST(MultiscaleOctreeBuilder, AFileBuiltInPiecesDrawsAsItsInCoreBuildFromLevelK)
+{
+  auto blob = plodtest::MakeBlob(7, 160, 0.3);
+  const std::string ply = WritePLYFile(blob, "pieces", true);
+  ExpectPiecesDrawAsTheInCoreBuild(ply, 3);
   std::remove(ply.c_str());
+  const std::string bunny = plodtest::DataDir() + "/bun_zipper.ply";
+  struct stat st;
+  if (plodtest::DataDir().empty() || stat(bunny.c_str(), &st) != 0)
+  {
+    GTEST_SKIP() << "../shared/data (Stanford scans) not found: the bunny was left out";
+  }
+  ExpectPiecesDrawAsTheInCoreBuild(bunny, 4);
 }
 
 // With an OctreeFileName, a PLY file too large for the memory limit is built in pieces into that
@@ -2251,6 +2277,9 @@ TEST(MultiscaleOctreeBuilder, AFileTooLargeForTheLimitIsBuiltInPiecesIntoTheOctr
   std::remove(ply.c_str());
 }
 
+// A file that cannot fit is refused from its header's counts before a row is read, with what
+// would fit; missing files, other formats and an input beside a file name are errors. Each
+// gives an empty octree.
 TEST(MultiscaleOctreeBuilder, BuildFromAFileRefusesWhatCannotFitOrBeRead)
 {
   auto blob = plodtest::MakeBlob(6, 40, 0.2);
