@@ -1156,6 +1156,30 @@ inline int64_t CountDrawable(const Frame& f, int64_t n, int64_t owned, const uin
  * gains (Refinement::Owned). A child index that does not follow its parent (corrupt arrays) is
  * never followed, so the walk always ends: the cell is drawn instead and nothing is gained.
  */
+/// Whether the children of inner node `n` (refinement `r`) follow it, as a valid octree's do.
+inline bool ChildrenFollow(const OctreeView& v, int64_t n, const Refinement& r)
+{
+  return !(r.First <= n || r.First + __builtin_popcount(r.Mask) > v.NumberOfNodes ||
+    r.Level >= MaxFinestLevel);
+}
+
+/// Pushes the children of inner cell `e` (refinement `r`) on `stack`, from the last (highest
+/// octant) to the first, so that the first is walked first: over the set bits only (a test of
+/// each of the 8 bits mispredicts with the masks).
+template <class EntryType>
+[[gnu::always_inline]] inline void PushChildren(const EntryType& e, const Refinement& r,
+  bool brightnessOnly, uint8_t inside, std::vector<EntryType>& stack)
+{
+  for (unsigned m = r.Mask, k = __builtin_popcount(r.Mask); m;)
+  {
+    const unsigned c = 31u - unsigned(__builtin_clz(m));
+    m ^= 1u << c;
+    stack.push_back({ r.First + int32_t(--k),
+      { 2 * e.C[0] + (c & 1), 2 * e.C[1] + ((c >> 1) & 1), 2 * e.C[2] + ((c >> 2) & 1) },
+      brightnessOnly, inside });
+  }
+}
+
 template <class EntryType>
 [[gnu::always_inline]] inline int64_t RefineCell(const OctreeView& v, const EntryType& e,
   const Refinement& r, bool brightnessOnly, uint8_t inside, std::vector<EntryType>& stack,
@@ -1167,22 +1191,12 @@ template <class EntryType>
     ++cut.Stats.Opened;
     return r.Owned;
   }
-  if (r.First <= e.Node || r.First + __builtin_popcount(r.Mask) > v.NumberOfNodes ||
-    r.Level >= MaxFinestLevel)
+  if (!ChildrenFollow(v, e.Node, r))
   {
     cut.Add(e.Node, CutDrawn, AcceptedError);
     return 0;
   }
-  // the children from the last (highest octant) to the first, so that the first is walked
-  // first: over the set bits only (a test of each of the 8 bits mispredicts with the masks)
-  for (unsigned m = r.Mask, k = __builtin_popcount(r.Mask); m;)
-  {
-    const unsigned c = 31u - unsigned(__builtin_clz(m));
-    m ^= 1u << c;
-    stack.push_back({ r.First + int32_t(--k),
-      { 2 * e.C[0] + (c & 1), 2 * e.C[1] + ((c >> 1) & 1), 2 * e.C[2] + ((c >> 2) & 1) },
-      brightnessOnly, inside });
-  }
+  PushChildren(e, r, brightnessOnly, inside, stack);
   return r.Owned;
 }
 
@@ -1262,6 +1276,8 @@ void Selector::SetOctree(const OctreeView& view)
   }
   this->Previous.clear();
   this->Front.clear();
+  this->BudgetBound = false;
+  this->AheadKey = std::numeric_limits<float>::infinity();
 }
 
 bool Selector::Refines(const SelectionInput& in, int64_t node) const
@@ -1316,7 +1332,17 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
   if (in.TriangleBudget > 0)
   {
     this->Front.clear();
-    this->SelectWithinBudget(in, in.TriangleBudget, state, reason, cullMask, stats);
+    const bool kept = in.ToleranceCutFirst && !this->BudgetBound &&
+      this->WalkToleranceCutWithinBudget(in, state, reason, cullMask, stats);
+    if (!kept)
+    {
+      const int64_t visited = stats.Visited; // (a tolerance walk given up)
+      this->ClearPrevious(state, reason, cullMask);
+      stats = SelectionStats();
+      this->SelectWithinBudget(in, in.TriangleBudget, state, reason, cullMask, stats);
+      stats.Visited += visited;
+    }
+    this->BudgetBound = stats.BudgetBinding;
     if (in.ExactBudget)
     {
       this->FitDrawnTriangles(in, state, reason, cullMask, stats);
@@ -1405,16 +1431,75 @@ void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8
 namespace
 {
 /**
+ * The budget's count kept by a tolerance walk tried as a budget's cut
+ * (SelectionInput::ToleranceCutFirst): what CountDrawable counts of every refinement, summed
+ * over the walkers, and the budget above which they give up. Each walker adds its count in
+ * batches of about Batch triangles, so that the shared total is rarely written; the total is
+ * exact once every walker has added its last batch.
+ */
+struct DrawnTally
+{
+  static constexpr int64_t Batch = 4096;
+  explicit DrawnTally(int64_t budget)
+    : Budget(budget)
+  {
+  }
+  const int64_t Budget;
+  std::atomic<int64_t> Total{ 0 };
+
+  /// Whether the total exceeds the budget (the walkers give up; the queue walk makes the cut).
+  bool Over() const { return this->Total.load(std::memory_order_relaxed) > this->Budget; }
+  /// Adds a walker's batch; false once the total exceeds the budget.
+  bool Add(int64_t count)
+  {
+    this->Total.fetch_add(count, std::memory_order_relaxed);
+    return !this->Over();
+  }
+};
+
+/// A walker's share of a DrawnTally (or nothing, without one: the walk then compiles as it
+/// would without counting).
+template <bool Tally>
+struct TallyBatch
+{
+  DrawnTally* Shared;
+  int64_t Count = 0;
+
+  /// Counts the refinement of cell `e` (the `owned` triangles it adds); false when the walk
+  /// is to give up.
+  template <class EntryType>
+  bool Refined(const Frame& f, const EntryType& e, int64_t owned, int level)
+  {
+    if (!Tally || owned <= 0)
+      return true;
+    this->Count += CountDrawable(f, e.Node, owned, e.C, level);
+    if (this->Count < DrawnTally::Batch)
+      return true;
+    return this->Flush();
+  }
+  bool Flush()
+  {
+    const int64_t count = this->Count;
+    this->Count = 0;
+    return !Tally || this->Shared->Add(count);
+  }
+};
+
+/**
  * The depth-first walk (SRCC §3.5) of the cells on `stack` and everything below them that the
  * tolerances refine. Returns the triangles the refinements add. With `record`, every cell put in
  * the cut is also appended to it (the front the incremental selection starts from next frame).
+ * With `Tally`, the budget's count of the refinements is added to `*tally`, and the walk gives
+ * up (returns with cells left on the stack) once its total exceeds the budget.
  */
-template <Policy P, bool EveryTest, class EntryType>
-[[gnu::always_inline]] inline int64_t WalkDepthFirst(
-  const Frame& frame, std::vector<EntryType>& stack, CutWriter& cut, std::vector<EntryType>* record)
+template <Policy P, bool EveryTest, class EntryType, bool Tally = false>
+[[gnu::always_inline]] inline int64_t WalkDepthFirst(const Frame& frame,
+  std::vector<EntryType>& stack, CutWriter& cut, std::vector<EntryType>* record,
+  DrawnTally* tally = nullptr)
 {
   const OctreeView& v = frame.V;
   int64_t triangles = 0;
+  TallyBatch<Tally> batch{ tally };
   while (!stack.empty())
   {
     const EntryType e = stack.back();
@@ -1431,11 +1516,15 @@ template <Policy P, bool EveryTest, class EntryType>
       continue;
     }
     cut.Stats.TopologyRefined += d.Topology ? 1 : 0;
-    triangles +=
-      RefineCell(v, e, Refinable(v, e.Node), d.BrightnessOnly && !EveryTest, inside, stack, cut);
+    const Refinement r = Refinable(v, e.Node);
+    const int64_t owned = RefineCell(v, e, r, d.BrightnessOnly && !EveryTest, inside, stack, cut);
+    triangles += owned;
     if (record && cut.State[e.Node] != NotInCut)
       record->push_back(e); // an opened leaf
+    if (!batch.Refined(frame, e, owned, r.Level))
+      return triangles;
   }
+  batch.Flush();
   return triangles;
 }
 } // namespace
@@ -1460,19 +1549,22 @@ namespace
  * The tolerance walk's parallel form (Selector::SetParallelFor): the top of the tree breadth
  * first until enough subtrees wait, then the subtrees through `pfor`, each with its own stack,
  * cut list and figures (in the task vectors, whose capacities are kept), merged in order.
- * Returns the triangles the refinements add.
+ * Returns the triangles the refinements add. With `Tally`, as WalkDepthFirst: each subtree gives
+ * up (or is not walked) once the total exceeds the budget; the cells written are still merged
+ * into the cut list, to be cleared.
  */
-template <Policy P, class EntryType>
+template <Policy P, class EntryType, bool Tally = false>
 int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWriter& cut,
   const ParallelFor& pfor, std::vector<std::vector<EntryType>>& taskStacks,
   std::vector<std::vector<int32_t>>& taskPrevious, std::vector<SelectionStats>& taskStats,
-  std::vector<int64_t>& taskTriangles)
+  std::vector<int64_t>& taskTriangles, DrawnTally* tally = nullptr)
 {
   const OctreeView& v = frame.V;
   // 1. the top of the tree breadth first, until enough subtrees wait (each cell is judged as
   // the depth-first walk judges it: its entry holds all it depends on)
   constexpr size_t Subtrees = 64;
   int64_t triangles = 0;
+  TallyBatch<Tally> batch{ tally };
   size_t next = 0;
   while (next < stack.size() && stack.size() - next < Subtrees)
   {
@@ -1487,16 +1579,19 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
       continue;
     }
     cut.Stats.TopologyRefined += d.Topology ? 1 : 0;
-    triangles += RefineCell(v, e, Refinable(v, e.Node), d.BrightnessOnly, inside, stack, cut);
+    const Refinement r = Refinable(v, e.Node);
+    const int64_t owned = RefineCell(v, e, r, d.BrightnessOnly, inside, stack, cut);
+    triangles += owned;
+    batch.Refined(frame, e, owned, r.Level); // (the subtrees see the total)
   }
+  batch.Flush();
   // 2. the waiting subtrees, each walked depth first with its own stack, list and figures
   // (disjoint subtrees: no two write the same node)
   const size_t waiting = stack.size() - next;
-  if (taskStacks.size() < waiting)
-  {
+  if (taskStacks.size() < waiting) // (the budget walk's first pass uses the stacks too)
     taskStacks.resize(waiting);
+  if (taskPrevious.size() < waiting)
     taskPrevious.resize(waiting);
-  }
   taskStats.assign(waiting, SelectionStats());
   taskTriangles.assign(waiting, 0);
   pfor(static_cast<int64_t>(waiting), 1, [&](int64_t begin, int64_t end) {
@@ -1505,8 +1600,11 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
       std::vector<EntryType>& own = taskStacks[k];
       own.assign(1, stack[next + k]);
       taskPrevious[k].clear();
+      if (Tally && tally->Over())
+        continue;
       CutWriter local{ cut.State, cut.Reason, cut.CullMask, taskPrevious[k], taskStats[k] };
-      taskTriangles[k] = WalkDepthFirst<P, false, EntryType>(frame, own, local, nullptr);
+      taskTriangles[k] =
+        WalkDepthFirst<P, false, EntryType, Tally>(frame, own, local, nullptr, tally);
     }
   });
   // 3. merged in subtree order
@@ -1543,6 +1641,32 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
   });
   this->FrontTriangles = stats.BudgetTriangles;
   stats.CutTriangles = stats.BudgetTriangles;
+}
+
+// flatten: as SelectDepthFirst
+[[gnu::flatten]] bool Selector::WalkToleranceCutWithinBudget(const SelectionInput& in,
+  uint8_t* state, uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
+{
+  const Frame frame = MakeFrame(
+    this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
+  CutWriter cut{ state, reason, cullMask, this->Previous, stats };
+  std::vector<Entry>& stack = this->Stack;
+  stack.clear();
+  stack.push_back({ 0, { 0, 0, 0 }, false, 0 });
+  DrawnTally tally(in.TriangleBudget);
+  const int64_t triangles = WithPolicy(frame.Model, [&](auto policy) {
+    constexpr Policy P = decltype(policy)::value;
+    if (this->For)
+      return WalkInParallel<P, Entry, true>(frame, stack, cut, this->For, this->TaskStacks,
+        this->TaskPrevious, this->TaskStats, this->TaskTriangles, &tally);
+    return WalkDepthFirst<P, false, Entry, true>(frame, stack, cut, nullptr, &tally);
+  });
+  if (tally.Over())
+    return false;
+  stats.CutTriangles = triangles;
+  stats.BudgetTriangles = tally.Total.load();
+  stats.BudgetToleranceCut = true;
+  return true;
 }
 
 namespace
@@ -1674,6 +1798,12 @@ int64_t CoarsenFront(const Frame& frame, std::vector<EntryType>& next, std::vect
  * the cells judged off a stack, the refinements waiting in the max-heap, and the two counts,
  * what the budget counts (CountDrawable, when a refinement leaves the queue) and the cut's.
  */
+namespace
+{
+/// AheadCell::ChildList of a cell whose children were not judged ahead.
+constexpr uint32_t NotAhead = ~0u;
+}
+
 struct Selector::BudgetWalk
 {
   Selector& S;
@@ -1741,14 +1871,221 @@ struct Selector::BudgetWalk
       this->CountOwning(r.Owned, 1);
       this->S.Waiting.push_back(
         { r.Owned, { e.C[0], e.C[1], e.C[2] }, r.First, static_cast<uint8_t>(r.Mask),
-          static_cast<uint8_t>(r.Level), inside, d.BrightnessOnly, d.Topology });
+          static_cast<uint8_t>(r.Level), inside, d.BrightnessOnly, d.Topology, nullptr });
     }
   }
 
-  /// What refining waiting cell `c` adds to the budget's count, or more than `limit`.
+  // ---- the parallel first pass (Selector::SetParallelFor; see "Cost" in plodSelector.h) ----
+  // Every cell's decision depends only on the cell and on what its parent passes down, and the
+  // key of a refinement only on its priority and its parent's key, so the cells the walk will
+  // meet can be judged before it meets them, in parallel subtrees: each refinement whose key
+  // is at least AheadKey (the last binding walk's first misfit: the walk makes nearly all of
+  // them) has its children judged and its count made ahead. The walk then replays those
+  // decisions in the order it would have made them (so the queue holds the same refinements
+  // in the same places) and judges the rest itself: the cut is the serial walk's.
+
+  /// Cell `e` judged as JudgeStack judges it.
+  template <Policy P>
+  AheadCell JudgeAheadCell(const Entry& e, int64_t& factors) const
+  {
+    uint8_t inside = e.Inside;
+    const Decision d = Judge<P, true>(this->F, e.Node, e.C, e.BrightnessOnly, inside);
+    factors += d.Factor ? 1 : 0;
+    AheadCell a{ e.Node, { e.C[0], e.C[1], e.C[2] }, 0, -1, NotAhead, 0, -1, d.Priority,
+      static_cast<uint8_t>(d.What), d.Reason, d.Outside, inside, 0, 0, d.BrightnessOnly, d.Floor,
+      d.Topology, d.Factor };
+    if (d.What == Verdict::Refine)
+    {
+      const Refinement r = Refinable(this->F.V, e.Node);
+      a.Owned = r.Owned;
+      a.FirstChild = r.First;
+      a.ChildMask = static_cast<uint8_t>(r.Mask);
+      a.Level = static_cast<uint8_t>(r.Level);
+    }
+    return a;
+  }
+
+  static Refinement RefinementOf(const AheadCell& a)
+  {
+    return { a.ChildMask, a.FirstChild, a.Level, a.Owned };
+  }
+
+  /// The key under which a refinement judged under `bound` leaves its children: a floor passes
+  /// `bound` on (its children are judged with its siblings), a queued refinement its own key.
+  static float ChildBound(const AheadCell& a, float bound)
+  {
+    return a.Floor ? bound : std::min(a.Priority, bound);
+  }
+
+  /// Whether the first pass goes below refinement `a`, judged under `bound`.
+  bool GoesBelow(const AheadCell& a, float bound) const
+  {
+    return a.What == uint8_t(Verdict::Refine) &&
+      (a.Floor || std::min(a.Priority, bound) >= this->S.AheadKey);
+  }
+
+  /// Goes below refinement `list[index]`: its count, and its children judged, in child order,
+  /// at the end of `out` (list number `outId`). Returns the number of children judged.
+  template <Policy P>
+  int JudgeChildren(std::vector<AheadCell>& list, size_t index, std::vector<AheadCell>& out,
+    uint32_t outId, std::vector<Entry>& scratch, int64_t& visited, int64_t& factors) const
+  {
+    AheadCell& a = list[index];
+    a.Count = CountDrawable(this->F, a.Node, a.Owned, a.C, a.Level);
+    const Refinement r = RefinementOf(a);
+    if (r.Mask == 0 || !ChildrenFollow(this->F.V, a.Node, r))
+      return 0;
+    scratch.clear();
+    const Entry e{ a.Node, { a.C[0], a.C[1], a.C[2] }, false, a.Inside };
+    PushChildren(e, r, a.BrightnessOnly, a.Inside, scratch);
+    const int k = static_cast<int>(scratch.size());
+    const size_t first = out.size();
+    for (int i = k - 1; i >= 0; --i) // (pushed last to first)
+      out.push_back(this->JudgeAheadCell<P>(scratch[i], factors));
+    visited += k;
+    list[index].ChildList = outId; // (`a` may have moved when `list` is `out`)
+    list[index].ChildIndex = static_cast<uint32_t>(first);
+    return k;
+  }
+
+  /**
+   * The first pass: the root judged, the top of the tree gone below breadth first until enough
+   * refinements wait, then each of them depth first in its own list through the selector's
+   * ParallelFor.
+   */
+  template <Policy P>
+  void JudgeAhead()
+  {
+    constexpr size_t Subtrees = 64;
+    std::vector<std::vector<AheadCell>>& lists = this->S.AheadLists;
+    std::vector<std::pair<uint32_t, float>>& open = this->S.AheadOpen;
+    if (lists.empty())
+      lists.resize(1);
+    std::vector<AheadCell>& top = lists[0];
+    top.clear();
+    open.clear();
+    int64_t visited = 1, factors = 0;
+    top.push_back(this->JudgeAheadCell<P>({ 0, { 0, 0, 0 }, false, 0 }, factors));
+    constexpr float Unbounded = std::numeric_limits<float>::infinity();
+    if (this->GoesBelow(top[0], Unbounded))
+      open.emplace_back(0, Unbounded);
+    size_t next = 0;
+    while (next < open.size() && open.size() - next < Subtrees)
+    {
+      const auto [index, bound] = open[next++];
+      const float below = ChildBound(top[index], bound);
+      const size_t first = top.size();
+      const int k = this->JudgeChildren<P>(top, index, top, 0, this->S.Stack, visited, factors);
+      for (int i = 0; i < k; ++i)
+        if (this->GoesBelow(top[first + i], below))
+          open.emplace_back(static_cast<uint32_t>(first + i), below);
+    }
+    // (each subtree's lists and figures in the selector's task vectors, capacities kept)
+    const size_t waiting = open.size() - next;
+    if (lists.size() < waiting + 1)
+      lists.resize(waiting + 1);
+    std::vector<AheadCell>& topNow = lists[0]; // (`top` moved if `lists` grew)
+    if (this->S.TaskStacks.size() < waiting)
+      this->S.TaskStacks.resize(waiting);
+    if (this->S.AheadStacks.size() < waiting)
+      this->S.AheadStacks.resize(waiting);
+    this->S.TaskStats.assign(waiting, SelectionStats());
+    this->S.For(static_cast<int64_t>(waiting), 1, [&](int64_t begin, int64_t end) {
+      for (int64_t t = begin; t < end; ++t)
+      {
+        std::vector<Entry>& scratch = this->S.TaskStacks[t];
+        std::vector<std::pair<uint32_t, float>>& stack = this->S.AheadStacks[t];
+        int64_t& taskVisited = this->S.TaskStats[t].Visited;
+        int64_t& taskFactors = this->S.TaskStats[t].FoveationFactors;
+        std::vector<AheadCell>& own = lists[t + 1];
+        own.clear();
+        const auto [index, bound] = open[next + t];
+        const float below = ChildBound(topNow[index], bound);
+        int k = this->JudgeChildren<P>(
+          topNow, index, own, uint32_t(t + 1), scratch, taskVisited, taskFactors);
+        stack.clear();
+        for (int i = k - 1; i >= 0; --i)
+          stack.emplace_back(static_cast<uint32_t>(i), below);
+        while (!stack.empty())
+        {
+          const auto [at, under] = stack.back();
+          stack.pop_back();
+          if (!this->GoesBelow(own[at], under))
+            continue;
+          const float deeper = ChildBound(own[at], under);
+          const size_t first = own.size();
+          k = this->JudgeChildren<P>(
+            own, at, own, uint32_t(t + 1), scratch, taskVisited, taskFactors);
+          for (int i = k - 1; i >= 0; --i)
+            stack.emplace_back(static_cast<uint32_t>(first + i), deeper);
+        }
+      }
+    });
+    for (size_t t = 0; t < waiting; ++t)
+    {
+      visited += this->S.TaskStats[t].Visited;
+      factors += this->S.TaskStats[t].FoveationFactors;
+    }
+    this->Stats.Visited += visited;
+    this->Stats.FoveationFactors += factors;
+    this->Stats.BudgetJudgedAhead = visited;
+  }
+
+  /// Cell `a`, judged ahead, met by the walk under key `bound`: what JudgeStack does with it,
+  /// its decision read instead of made (a floor's children replayed before its siblings, as
+  /// JudgeStack's stack takes them).
+  template <Policy P>
+  void Replay(const AheadCell& a, float bound)
+  {
+    if (a.What != uint8_t(Verdict::Refine))
+    {
+      this->Cut.Keep(
+        a.Node, { Verdict(a.What), a.Reason, a.Outside, false, false, false, false, 0 });
+      return;
+    }
+    const Entry e{ a.Node, { a.C[0], a.C[1], a.C[2] }, false, a.Inside };
+    if (a.Floor)
+    {
+      const int64_t owned = RefineCell(
+        this->F.V, e, RefinementOf(a), a.BrightnessOnly, a.Inside, this->S.Stack, this->Cut);
+      this->CutTriangles += owned;
+      this->Triangles += owned > 0 ? a.Count : 0;
+      this->ReplayChildren<P>(a, bound);
+      return;
+    }
+    const float priority = a.Priority;
+    const uint64_t order =
+      uint64_t(OrderBits(std::min(priority, bound))) << 32 | OrderBits(priority);
+    HeapPush(
+      this->S.Queue, { order, a.Node, static_cast<uint32_t>(this->S.Waiting.size()) }, Below);
+    this->CountOwning(a.Owned, 1);
+    this->S.Waiting.push_back({ a.Owned, { a.C[0], a.C[1], a.C[2] }, a.FirstChild, a.ChildMask,
+      a.Level, a.Inside, a.BrightnessOnly, a.Topology, &a });
+  }
+
+  /// The children of refinement `a` (just refined: RefineCell pushed them on the stack): their
+  /// decisions replayed when the first pass judged them, else judged now.
+  template <Policy P>
+  void ReplayChildren(const AheadCell& a, float bound)
+  {
+    if (a.ChildList == NotAhead)
+    {
+      this->JudgeStack<P>(bound);
+      return;
+    }
+    this->S.Stack.clear();
+    const AheadCell* child = this->S.AheadLists[a.ChildList].data() + a.ChildIndex;
+    for (int k = __builtin_popcount(a.ChildMask); k > 0; --k, ++child)
+      this->Replay<P>(*child, bound);
+  }
+
+  /// What refining waiting cell `c` adds to the budget's count, or more than `limit` (its
+  /// count judged ahead, when it was: then the whole count).
   int64_t Counted(const Candidate& c, int64_t limit) const
   {
     const WaitingCell& w = this->S.Waiting[c.Slot];
+    if (w.Ahead && w.Ahead->Count >= 0)
+      return w.Ahead->Count;
     return CountDrawable(this->F, c.Node, w.Owned, w.C, w.Level, limit);
   }
 
@@ -1764,7 +2101,11 @@ struct Selector::BudgetWalk
       w.ChildrenBrightnessOnly, w.Inside, this->S.Stack, this->Cut);
     this->CutTriangles += owned;
     this->Triangles += owned > 0 ? add : 0;
-    this->JudgeStack<P>(FromOrderBits(static_cast<uint32_t>(c.Order >> 32)));
+    const float key = FromOrderBits(static_cast<uint32_t>(c.Order >> 32));
+    if (w.Ahead)
+      this->ReplayChildren<P>(*w.Ahead, key);
+    else
+      this->JudgeStack<P>(key);
   }
 
   /// Draws waiting cell `c` at its vertex, unrefined by the budget.
@@ -1830,8 +2171,17 @@ struct Selector::BudgetWalk
   [[gnu::flatten]] void Run()
   {
     std::vector<Candidate>& queue = this->S.Queue;
-    this->S.Stack.push_back({ 0, { 0, 0, 0 }, false, 0 });
-    this->JudgeStack<P>(std::numeric_limits<float>::infinity());
+    constexpr float Unbounded = std::numeric_limits<float>::infinity();
+    if (this->S.For && this->S.AheadKey < Unbounded)
+    {
+      this->JudgeAhead<P>();
+      this->Replay<P>(this->S.AheadLists[0][0], Unbounded);
+    }
+    else
+    {
+      this->S.Stack.push_back({ 0, { 0, 0, 0 }, false, 0 });
+      this->JudgeStack<P>(Unbounded);
+    }
     const bool skip = this->In.BudgetStop == BudgetStopRule::SkipMisfits;
     while (!queue.empty())
     {
@@ -1875,6 +2225,9 @@ void Selector::SelectWithinBudget(const SelectionInput& in, int64_t budget, uint
   stats.CutTriangles = walk.CutTriangles;
   stats.BudgetTriangles = walk.Triangles;
   stats.BudgetBinding = walk.Refused || walk.Triangles > budget;
+  // the next walk's first pass goes down to this one's first misfit (a finite positive key)
+  const float misfit = static_cast<float>(stats.BudgetRefusedPriority);
+  this->AheadKey = walk.Refused && misfit > 0 ? misfit : std::numeric_limits<float>::infinity();
 }
 
 } // namespace plod

@@ -161,8 +161,26 @@
  *   same cells, so its cut is the tolerance cut, node for node, states, reasons and cull masks.
  *
  * Cost: the queue walk visits fewer nodes per second than the depth-first walk (the heap's pops
- * and the lost memory locality), so a budget that does not bind costs somewhat more than the
- * tolerance walk; a binding one visits far fewer nodes. The alternative, scaling both
+ * and the lost memory locality) and runs on one thread; a binding budget visits far fewer nodes
+ * than the tolerance walk. A budget that does not bind would cost more than the tolerance walk,
+ * so the tolerance cut is tried first (SelectionInput::ToleranceCutFirst) when the last budget
+ * walk on the octree did not bind: the tolerance walk (in parallel with SetParallelFor) counts
+ * what the budget counts, refinement by refinement, and gives up as soon as the count exceeds
+ * the budget. When its cut fits, it is the budget walk's cut (above), node for node, with the
+ * same figures but Visited and FoveationFactors, and it is kept
+ * (SelectionStats::BudgetToleranceCut); otherwise its cells are cleared and the queue walk runs.
+ * A frame where the budget starts to bind thus pays for a tolerance walk cut short near the
+ * budget's count, and the next frame goes straight to the queue walk. The queue walk itself is
+ * one heap, but most of its time goes into judging cells and counting their triangles, and
+ * those depend only on the cell and on what its parent passes down (its key too: its priority
+ * and its parent's key). So with SetParallelFor, after a binding walk, a first pass judges
+ * ahead, in parallel subtrees, the cells below every refinement whose key is at least the last
+ * walk's first misfit (the refinements the walk makes, give or take the camera's motion), and
+ * counts those refinements' triangles (SelectionStats::BudgetJudgedAhead). The walk then
+ * replays those decisions where it meets them, in the order in which it would have made them,
+ * and judges the cells it reaches beyond them itself: its queue holds the same refinements in
+ * the same places, so the cut and every figure but Visited and FoveationFactors are the serial
+ * walk's, on any number of threads. The alternative, scaling both
  * tolerances by one factor found by bisection (a full walk per step), costs more as soon as it
  * needs more than about one and a half walks a frame, and its cut follows one scale for every
  * tolerance rather than the order of the errors (docs/benchmarks.md, "Triangle budget").
@@ -198,7 +216,9 @@
 #include "plodPatches.h"
 
 #include <cstdint>
+#include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace plod
@@ -335,6 +355,10 @@ struct SelectionInput
   /// 95 % of it (see "The count" in the file documentation). Off (default): the walk's count,
   /// which estimates the back faces.
   bool ExactBudget = false;
+  /// With a budget: when the last budget walk on this octree did not bind, try the tolerance
+  /// walk's cut first and keep it when it fits (see "Cost" in the file documentation); the cut
+  /// is the same either way. Off: the queue walk alone.
+  bool ToleranceCutFirst = true;
 
   /// Start from the previous frame's cut instead of the root (see "Incremental selection" in
   /// the file documentation). Used only when the previous frame was a tolerance walk (no
@@ -376,6 +400,12 @@ struct SelectionStats
   /// tolerance cut's CutTriangles when the budget does not bind, and a lower bound of it when
   /// it does: what a process asks for when several share one budget.
   int64_t BudgetWaitingTriangles = 0;
+  /// With a budget: the tolerance walk's cut fitted and was kept, the queue walk did not run
+  /// (SelectionInput::ToleranceCutFirst).
+  bool BudgetToleranceCut = false;
+  /// With a budget and Selector::SetParallelFor: the cells the queue walk's parallel first pass
+  /// judged (in Visited; see "Cost" in the file documentation).
+  int64_t BudgetJudgedAhead = 0;
 };
 
 namespace detail
@@ -452,7 +482,9 @@ public:
    * tree breadth first until enough subtrees wait, then walks the subtrees through `parallelFor`
    * (vtkSMPTools in the VTK layer), each with its own stack, list and figures, merged in order.
    * The cut, the reasons, the cull masks and the figures are the serial walk's; only the order of
-   * the internal list of cut nodes differs. Unset (default): serial.
+   * the internal list of cut nodes differs. The budget walk's first pass (see "Cost" in the file
+   * documentation) and the tolerance walk it may try first run through it too. Unset (default):
+   * serial.
    */
   void SetParallelFor(const ParallelFor& parallelFor)
   {
@@ -488,6 +520,7 @@ private:
   };
   /// What refining a waiting cell needs, read when it is judged (with its siblings, whose
   /// entries share cache lines) rather than when it leaves the queue.
+  struct AheadCell;
   struct WaitingCell
   {
     int64_t Owned; // the triangles refining it adds
@@ -498,6 +531,24 @@ private:
     uint8_t Inside;              // the frustum planes it lies wholly inside
     bool ChildrenBrightnessOnly; // what its children are tested for
     bool Topology;               // refined only for its topology (TopologyRefined)
+    const AheadCell* Ahead;      // its cell as judged ahead, or null
+  };
+  /// A cell the budget walk's parallel first pass judged (plodSelector.cxx, BudgetWalk::
+  /// JudgeAhead): the decision the walk makes when it meets the cell, and for a refinement the
+  /// first pass went below, what refining it adds to the budget's count and where its
+  /// children's cells are (ChildList, ChildIndex: contiguous, in child order, in
+  /// AheadLists[ChildList]; ChildList NotAhead: not judged ahead).
+  struct AheadCell
+  {
+    int32_t Node;
+    uint32_t C[3];
+    int64_t Owned; // a refinement: the triangles refining it adds (as WaitingCell)
+    int64_t Count; // a refinement gone below: CountDrawable of them; else -1
+    uint32_t ChildList, ChildIndex;
+    int32_t FirstChild;
+    float Priority;
+    uint8_t What, Reason, Outside, Inside, ChildMask, Level;
+    bool BrightnessOnly, Floor, Topology, Factor;
   };
 
   void ClearPrevious(uint8_t* state, uint8_t* reason, uint8_t* cullMask);
@@ -510,6 +561,11 @@ private:
   void SelectWithinBudget(const SelectionInput& in, int64_t budget, uint8_t* state, uint8_t* reason,
     uint8_t* cullMask, SelectionStats& stats);
   void FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8_t* reason,
+    uint8_t* cullMask, SelectionStats& stats);
+  /// With a budget: the tolerance walk, counting what the budget counts; true when its cut fits
+  /// the budget (then it is the cut), false when it was given up (its cells are then in
+  /// Previous, to be cleared).
+  bool WalkToleranceCutWithinBudget(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     uint8_t* cullMask, SelectionStats& stats);
   struct BudgetWalk; // SelectWithinBudget's state and steps (plodSelector.cxx)
 
@@ -530,6 +586,16 @@ private:
   int64_t FrontTriangles = 0;
   std::vector<uint32_t> Mark;
   uint32_t MarkValue = 0;
+  /// The last budget walk on this octree bound (SelectionInput::ToleranceCutFirst then waits
+  /// for one that does not).
+  bool BudgetBound = false;
+  /// The budget walk's parallel first pass: the key down to which it judges ahead (the last
+  /// binding walk's first misfit; infinite: no first pass), its lists of cells (one for the
+  /// top of the tree, one per subtree), and the top's refinements waiting to be gone below.
+  float AheadKey = std::numeric_limits<float>::infinity();
+  std::vector<std::vector<AheadCell>> AheadLists;
+  std::vector<std::pair<uint32_t, float>> AheadOpen;
+  std::vector<std::vector<std::pair<uint32_t, float>>> AheadStacks;
   /// The parallel tolerance walk: the function, and each subtree's stack, cut list, figures and
   /// triangles (capacities kept between frames).
   ParallelFor For;

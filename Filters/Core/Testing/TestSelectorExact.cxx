@@ -1184,7 +1184,9 @@ TEST(SelectorExact, BudgetCountsTheTrianglesOfRefinedNodesAndOpenedLeaves)
     EXPECT_EQ(r.State[2], c.B) << c.Budget;
     EXPECT_EQ(r.Stats.BudgetBinding, c.Budget < 12) << c.Budget;
   }
-  // the root alone counts 0 triangles (it is one point): a budget below its 3 keeps it
+  // the root alone counts 0 triangles (it is one point): a budget below its 3 keeps it, and
+  // the queue walk visits the root alone (no tolerance walk tried first)
+  s.In.ToleranceCutFirst = false;
   r = s.Select(2);
   EXPECT_EQ(r.State[0], plod::CutDrawn);
   EXPECT_EQ(r.Reason[0], plod::BudgetLimited);
@@ -1286,17 +1288,30 @@ TEST(SelectorExact, NoBudgetOrANonBindingOneGivesTheToleranceCut)
   s.SetA(2);
   const auto base = s.Select(0);
   ASSERT_EQ(base.Stats.BudgetTriangles, 23);
-  for (int64_t budget : { int64_t(-3), int64_t(23), int64_t(24), int64_t(1) << 40 })
+  // the queue walk, and the tolerance walk tried first (kept: the cut fits)
+  for (const bool first : { false, true })
   {
-    const auto r = s.Select(budget);
-    for (int n = 0; n < 3; ++n)
+    s.In.ToleranceCutFirst = first;
+    for (int64_t budget : { int64_t(-3), int64_t(23), int64_t(24), int64_t(1) << 40 })
     {
-      EXPECT_EQ(r.State[n], base.State[n]) << budget;
-      EXPECT_EQ(r.Reason[n], base.Reason[n]) << budget;
+      const auto r = s.Select(budget);
+      for (int n = 0; n < 3; ++n)
+      {
+        EXPECT_EQ(r.State[n], base.State[n]) << budget;
+        EXPECT_EQ(r.Reason[n], base.Reason[n]) << budget;
+      }
+      EXPECT_EQ(r.Stats.BudgetTriangles, 23);
+      EXPECT_FALSE(r.Stats.BudgetBinding);
+      EXPECT_EQ(r.Stats.Visited, base.Stats.Visited);
+      EXPECT_EQ(r.Stats.BudgetToleranceCut, first && budget > 0) << budget;
     }
-    EXPECT_EQ(r.Stats.BudgetTriangles, 23);
-    EXPECT_FALSE(r.Stats.BudgetBinding);
-    EXPECT_EQ(r.Stats.Visited, base.Stats.Visited);
+    // one less: the tolerance walk gives up, the queue walk's cut (B's larger ratio first, A
+    // left unrefined)
+    const auto r = s.Select(22);
+    EXPECT_TRUE(r.Stats.BudgetBinding);
+    EXPECT_FALSE(r.Stats.BudgetToleranceCut);
+    EXPECT_EQ(r.Reason[1], plod::BudgetLimited);
+    EXPECT_EQ(r.State[2], plod::CutOpen);
+    EXPECT_EQ(r.Stats.BudgetTriangles, 13);
   }
-  EXPECT_TRUE(s.Select(22).Stats.BudgetBinding);
 }

@@ -1407,8 +1407,13 @@ struct BudgetScene
   }
   plod::SelectionStats Select(const plod::SelectionInput& in)
   {
+    return this->SelectWith(this->Kernel, in);
+  }
+  /// A selection by `kernel` (set to this octree) into the scene's arrays.
+  plod::SelectionStats SelectWith(plod::Selector& kernel, const plod::SelectionInput& in)
+  {
     plod::SelectionStats stats;
-    this->Kernel.Select(in, this->State.data(), this->Reason.data(), this->Mask.data(), stats);
+    kernel.Select(in, this->State.data(), this->Reason.data(), this->Mask.data(), stats);
     return stats;
   }
   /// Triangles GeneratePatches draws for the current cut (every triangle it may draw: no
@@ -1641,6 +1646,7 @@ TEST(PerceptualLODSelector, ScreenFoveationTableGivesTheExactCut)
             const plod::SelectionStats fast = scene.Select(in);
             const auto state = scene.State, reason = scene.Reason, mask = scene.Mask;
             in.TriangleBudget = std::numeric_limits<int64_t>::max();
+            in.ToleranceCutFirst = false; // the queue walk, which computes every factor
             const plod::SelectionStats exact = scene.Select(in);
             ASSERT_FALSE(exact.BudgetBinding) << what;
             ASSERT_TRUE(scene.State == state && scene.Reason == reason && scene.Mask == mask)
@@ -1706,6 +1712,7 @@ TEST(PerceptualLODSelector, BudgetIsNeverExceededAndNestsAndMeetsTheToleranceCut
           modelName + " " + mode.first + " eye " + std::to_string(eyeArray[0]);
         plod::SelectionInput in = scene.Look(eye, focus);
         mode.second(in);
+        in.ToleranceCutFirst = false; // the queue walk at every budget (its shortcut: below)
         const plod::SelectionStats tolerance = scene.Select(in);
         const auto state0 = scene.State, reason0 = scene.Reason, mask0 = scene.Mask;
         const auto refined0 = scene.Refined();
@@ -2163,6 +2170,205 @@ TEST(PerceptualLODSelector, ParallelWalkGivesTheSerialCut)
     });
   vtkSMPTools::Initialize(0);
   EXPECT_GT(cases, 300);
+}
+
+// A budget's tolerance walk tried first (SelectionInput::ToleranceCutFirst): over the models,
+// views and every mode, serial and on 2 and 8 vtkSMPTools threads, the cut, reasons, cull masks
+// and figures (all but the visits) of the queue walk alone, node for node, at budgets the
+// tolerance cut fits (its count N, and far more: kept) and does not fit (N - 1 and N / 3: given
+// up, then the queue walk). After a binding budget the next frame goes to the queue walk first,
+// and the one after tries the tolerance cut again.
+TEST(PerceptualLODSelector, ToleranceCutFirstGivesTheQueueWalksCut)
+{
+  auto smp = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
+    vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+      [&body](vtkIdType b, vtkIdType e) { body(b, e); });
+  };
+  const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { -1.2, 0.3, 1.9 },
+    { 0.05, 0.02, 0.3 } };
+  int kept = 0, givenUp = 0;
+  ForEachBudgetView(eyes,
+    [&](BudgetScene& scene, const std::string& modelName, const std::array<double, 3>& eyeArray,
+      double eye[3], const double focus[3]) {
+      for (const auto& mode : BudgetModes())
+      {
+        plod::SelectionInput in = scene.Look(eye, focus);
+        mode.second(in);
+        const std::string what =
+          modelName + " " + mode.first + " eye " + std::to_string(eyeArray[0]);
+        struct Run
+        {
+          std::vector<uint8_t> State, Reason, Mask;
+          plod::SelectionStats Stats;
+        };
+        const auto select = [&](plod::Selector& kernel, int64_t budget, bool first) {
+          Run r{ std::vector<uint8_t>(scene.State.size(), 0),
+            std::vector<uint8_t>(scene.State.size(), 0),
+            std::vector<uint8_t>(scene.State.size(), 0), {} };
+          in.TriangleBudget = budget;
+          in.ToleranceCutFirst = first;
+          kernel.Select(in, r.State.data(), r.Reason.data(), r.Mask.data(), r.Stats);
+          return r;
+        };
+        const auto expectSame = [&](const Run& a, const Run& b, const std::string& where) {
+          ASSERT_EQ(a.State, b.State) << where;
+          ASSERT_EQ(a.Reason, b.Reason) << where;
+          ASSERT_EQ(a.Mask, b.Mask) << where;
+          EXPECT_EQ(a.Stats.InCut, b.Stats.InCut) << where;
+          EXPECT_EQ(a.Stats.Drawn, b.Stats.Drawn) << where;
+          EXPECT_EQ(a.Stats.Opened, b.Stats.Opened) << where;
+          EXPECT_EQ(a.Stats.TopologyRefined, b.Stats.TopologyRefined) << where;
+          EXPECT_EQ(a.Stats.CutTriangles, b.Stats.CutTriangles) << where;
+          EXPECT_EQ(a.Stats.BudgetTriangles, b.Stats.BudgetTriangles) << where;
+          EXPECT_EQ(a.Stats.BudgetBinding, b.Stats.BudgetBinding) << where;
+          EXPECT_EQ(a.Stats.BudgetRefusedPriority, b.Stats.BudgetRefusedPriority) << where;
+          EXPECT_EQ(a.Stats.BudgetRefusedTriangles, b.Stats.BudgetRefusedTriangles) << where;
+          EXPECT_EQ(a.Stats.BudgetWaitingTriangles, b.Stats.BudgetWaitingTriangles) << where;
+        };
+        plod::Selector queue;
+        queue.SetOctree(scene.View);
+        const int64_t N = select(queue, std::numeric_limits<int64_t>::max(), false)
+                            .Stats.BudgetTriangles; // what the budget counts of the tolerance cut
+        if (N < 3)
+          continue;
+        for (const int threads : { 0, 2, 8 })
+        {
+          const std::string where = what + " threads " + std::to_string(threads);
+          plod::Selector first;
+          first.SetOctree(scene.View);
+          if (threads > 0)
+          {
+            vtkSMPTools::Initialize(threads);
+            first.SetParallelFor(smp);
+          }
+          for (const int64_t budget : { std::numeric_limits<int64_t>::max(), N, N - 1, N / 3 })
+          {
+            const Run a = select(queue, budget, false);
+            EXPECT_FALSE(a.Stats.BudgetToleranceCut) << where;
+            // a fresh selector for each budget: the tolerance cut is tried on the first frame
+            plod::Selector fresh;
+            fresh.SetOctree(scene.View);
+            if (threads > 0)
+              fresh.SetParallelFor(smp);
+            const Run b = select(fresh, budget, true);
+            expectSame(a, b, where + " budget " + std::to_string(budget));
+            EXPECT_EQ(b.Stats.BudgetToleranceCut, budget >= N) << where << " budget " << budget;
+            (budget >= N ? kept : givenUp) += 1;
+          }
+          // a binding budget, then the tolerance cut's count twice: the queue walk, then kept
+          const Run bound = select(first, N - 1, true);
+          EXPECT_TRUE(bound.Stats.BudgetBinding) << where;
+          const Run a = select(queue, N, false);
+          const Run next = select(first, N, true);
+          expectSame(a, next, where + " after a binding budget");
+          EXPECT_FALSE(next.Stats.BudgetToleranceCut) << where;
+          const Run after = select(first, N, true);
+          expectSame(a, after, where + " two frames after");
+          EXPECT_TRUE(after.Stats.BudgetToleranceCut) << where;
+        }
+      }
+    });
+  vtkSMPTools::Initialize(0);
+  std::cout << kept << " cuts kept from the tolerance walk, " << givenUp << " given up\n";
+  EXPECT_GT(kept, 200);
+  EXPECT_GT(givenUp, 200);
+}
+
+// The budget walk with its parallel first pass (Selector::SetParallelFor): over the models,
+// views and every mode, both stop rules and the exact count, on a sequence of frames whose
+// budgets rise and fall and whose eye moves (so that the first pass goes below more cells than
+// the walk refines, and fewer), run serially, backwards and on 2 and 8 vtkSMPTools threads:
+// every frame's cut, reasons, cull masks and figures (all but the visits) are the serial walk's,
+// and so is the tolerance walk's that follows (it shares the selector's task vectors).
+TEST(PerceptualLODSelector, ParallelBudgetWalkGivesTheSerialCut)
+{
+  plod::ParallelFor backwards = [](int64_t n, int64_t grain,
+                                  const std::function<void(int64_t, int64_t)>& body) {
+    grain = std::max<int64_t>(1, grain);
+    for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
+      body(b, std::min(n, b + grain));
+  };
+  auto smp = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
+    vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+      [&body](vtkIdType b, vtkIdType e) { body(b, e); });
+  };
+  const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { -1.2, 0.3, 1.9 },
+    { 0.05, 0.02, 0.3 } };
+  const double fractions[] = { 0.5, 0.3, 0.3, 0.1, 0.7, 0.45, 0 }; // 0: no budget, last
+  int frames = 0, ahead = 0;
+  ForEachBudgetView(eyes,
+    [&](BudgetScene& scene, const std::string& modelName, const std::array<double, 3>& eyeArray,
+      double eye[3], const double focus[3]) {
+      for (const auto& mode : BudgetModes())
+      {
+        for (int variant = 0; variant < 3; ++variant) // skip misfits, stop at the first, exact
+        {
+          plod::SelectionInput in = scene.Look(eye, focus);
+          mode.second(in);
+          in.ToleranceCutFirst = false;
+          in.BudgetStop = variant == 1 ? plod::BudgetStopRule::StopAtFirstMisfit
+                                       : plod::BudgetStopRule::SkipMisfits;
+          in.ExactBudget = variant == 2;
+          in.TriangleBudget = std::numeric_limits<int64_t>::max();
+          const int64_t N = scene.Select(in).BudgetTriangles;
+          if (N < 20)
+            continue;
+          const std::string what = modelName + " " + mode.first + " eye " +
+            std::to_string(eyeArray[0]) + " variant " + std::to_string(variant);
+          for (int run = 0; run < 4; ++run)
+          {
+            plod::Selector parallel;
+            parallel.SetOctree(scene.View);
+            if (run == 0)
+              parallel.SetParallelFor(plod::SerialFor);
+            else if (run == 1)
+              parallel.SetParallelFor(backwards);
+            else
+            {
+              vtkSMPTools::Initialize(run == 2 ? 2 : 8);
+              parallel.SetParallelFor(smp);
+            }
+            std::vector<uint8_t> s(scene.State.size(), 0), r(s.size(), 0), m(s.size(), 0);
+            plod::SelectionInput moving = in;
+            for (const double fraction : fractions)
+            {
+              moving.TriangleBudget =
+                fraction > 0 ? std::max<int64_t>(1, int64_t(fraction * double(N))) : 0;
+              moving.Eye[0] += 0.01;
+              const std::string where = what + " run " + std::to_string(run) + " budget " +
+                std::to_string(moving.TriangleBudget);
+              plod::SelectionStats stats;
+              parallel.Select(moving, s.data(), r.data(), m.data(), stats);
+              plod::Selector serial; // (a fresh one writes into cleared arrays)
+              serial.SetOctree(scene.View);
+              for (auto* a : { &scene.State, &scene.Reason, &scene.Mask })
+                std::fill(a->begin(), a->end(), 0);
+              const plod::SelectionStats expected = scene.SelectWith(serial, moving);
+              ASSERT_EQ(s, scene.State) << where;
+              ASSERT_EQ(r, scene.Reason) << where;
+              ASSERT_EQ(m, scene.Mask) << where;
+              EXPECT_EQ(stats.InCut, expected.InCut) << where;
+              EXPECT_EQ(stats.Drawn, expected.Drawn) << where;
+              EXPECT_EQ(stats.Opened, expected.Opened) << where;
+              EXPECT_EQ(stats.TopologyRefined, expected.TopologyRefined) << where;
+              EXPECT_EQ(stats.CutTriangles, expected.CutTriangles) << where;
+              EXPECT_EQ(stats.BudgetTriangles, expected.BudgetTriangles) << where;
+              EXPECT_EQ(stats.BudgetBinding, expected.BudgetBinding) << where;
+              EXPECT_EQ(stats.BudgetRefusedPriority, expected.BudgetRefusedPriority) << where;
+              EXPECT_EQ(stats.BudgetRefusedTriangles, expected.BudgetRefusedTriangles) << where;
+              EXPECT_EQ(stats.BudgetWaitingTriangles, expected.BudgetWaitingTriangles) << where;
+              EXPECT_EQ(expected.BudgetJudgedAhead, 0) << where; // serial: no first pass
+              ahead += stats.BudgetJudgedAhead > 0 ? 1 : 0;
+              ++frames;
+            }
+          }
+        }
+      }
+    });
+  vtkSMPTools::Initialize(0);
+  std::cout << frames << " frames, " << ahead << " with a first pass\n";
+  EXPECT_GT(frames, 1000);
+  EXPECT_GT(ahead * 2, frames); // every frame after a binding one
 }
 
 // One knob for SRCC's preset: the default tolerances, and T_b = 4 T_s scaled together.
