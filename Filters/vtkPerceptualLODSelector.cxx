@@ -538,6 +538,8 @@ void vtkPerceptualLODSelector::RecordFigures(const plod::SelectionStats& stats)
   this->NumberOfBudgetTriangles = stats.BudgetTriangles;
   this->NumberOfCutTriangles = stats.CutTriangles;
   this->NumberOfWaitingTriangles = stats.BudgetWaitingTriangles;
+  this->BudgetKeptToleranceCut = stats.BudgetToleranceCut;
+  this->NumberOfCellsJudgedAhead = stats.BudgetJudgedAhead;
 }
 
 //------------------------------------------------------------------------------
@@ -595,5 +597,7 @@ void vtkPerceptualLODSelector::PrintSelf(ostream& os, vtkIndent indent)
      << ", " << this->NumberOfBudgetTriangles << " triangles counted of "
      << this->NumberOfCutTriangles << " in the cut, " << this->NumberOfFoveationFactors
      << " foveation factors computed" << (this->BudgetWasBinding ? " (the budget was binding)" : "")
-     << ", " << this->NumberOfWaitingTriangles << " waiting\n";
+     << ", " << this->NumberOfWaitingTriangles << " waiting"
+     << (this->BudgetKeptToleranceCut ? ", the tolerance cut kept" : "") << ", "
+     << this->NumberOfCellsJudgedAhead << " judged ahead\n";
 }

@@ -332,6 +332,12 @@ public:
   /// not bind, and a lower bound of it when it does: what this selector asks for when several
   /// share one budget (vtkPerceptualLODRepresentation under MPI).
   vtkGetMacro(NumberOfWaitingTriangles, vtkIdType);
+  /// With a budget: whether the last execution kept the tolerance walk's cut (it fitted the
+  /// budget: see plodSelector.h, "Cost"), and how many cells the budget walk's parallel first
+  /// pass judged (counted in GetNumberOfVisitedNodes; 0 without MultiThreaded or after a budget
+  /// that did not bind). Diagnostics: the cut is the same either way.
+  vtkGetMacro(BudgetKeptToleranceCut, bool);
+  vtkGetMacro(NumberOfCellsJudgedAhead, vtkIdType);
   ///@}
 
   enum BudgetStopRules
@@ -635,6 +641,8 @@ protected:
   vtkIdType NumberOfBudgetTriangles;
   vtkIdType NumberOfCutTriangles;
   vtkIdType NumberOfWaitingTriangles;
+  bool BudgetKeptToleranceCut = false;
+  vtkIdType NumberOfCellsJudgedAhead = 0;
   std::string EmptyCutReason;
   double SelectTime;
 

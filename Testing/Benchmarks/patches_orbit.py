@@ -4,7 +4,7 @@ vtkMultiscalePatchGenerator (every core), the eye on a circle around the octree'
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
         Testing/Benchmarks/patches_orbit.py model.plod [--view far|mid|close] [--step 2]
-        [--frames 22] [--budget 0]
+        [--frames 22] [--budget 0] [--exact]
 
 Prints the median patch time (vtkMultiscalePatchGenerator::GetGenerateTime) and selection time
 over the frames (the first two dropped) and the median triangle count. Scan-like models of any
@@ -30,6 +30,8 @@ def main():
     ap.add_argument('--step', type=float, default=2.0, help='degrees a frame')
     ap.add_argument('--frames', type=int, default=22)
     ap.add_argument('--budget', type=int, default=0, help='triangle budget (0: none)')
+    ap.add_argument('--exact', action='store_true',
+                    help='count the budget exactly (SetExactTriangleBudget)')
     args = ap.parse_args()
 
     reader = vtkMultiscaleOctreeReader()
@@ -43,6 +45,7 @@ def main():
     selector = vtkPerceptualLODSelector()
     selector.SetInputConnection(reader.GetOutputPort())
     selector.SetTriangleBudget(args.budget)
+    selector.SetExactTriangleBudget(args.exact)
     selector.SetViewportSize(1920, 1080)
     selector.AddLight(False, 0, 0, 1, 1, 0)
     patches = vtkMultiscalePatchGenerator()
@@ -67,7 +70,8 @@ def main():
             patch_ms.append(patches.GetGenerateTime() * 1e3)
             select_ms.append(selector.GetSelectTime() * 1e3)
             triangles.append(patches.GetNumberOfTriangles())
-    print(f'{args.view}, {args.step:g} degrees a frame, budget {args.budget}: patches median '
+    print(f'{args.view}, {args.step:g} degrees a frame, budget {args.budget}'
+          f'{" (exact)" if args.exact else ""}: patches median '
           f'{statistics.median(patch_ms):.2f} ms, selection {statistics.median(select_ms):.2f} ms, '
           f'{statistics.median(triangles):.0f} triangles')
 

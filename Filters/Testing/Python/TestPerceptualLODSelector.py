@@ -24,15 +24,16 @@ class TestSelector(unittest.TestCase):
         self.patches = vtkMultiscalePatchGenerator()
         self.patches.SetInputConnection(self.selector.GetOutputPort())
 
-    def look(self, distance):
+    def look(self, distance, selector=None):
+        selector = selector or self.selector
         camera = vtkCamera()
         camera.SetPosition(0, 0, distance)
         camera.SetFocalPoint(0, 0, 0)
         planes = [0.0] * 24
         camera.GetFrustumPlanes(16 / 9, planes)
-        self.selector.SetEyePosition(camera.GetPosition())
-        self.selector.SetViewAngle(camera.GetViewAngle())
-        self.selector.SetFrustumPlanes(planes)
+        selector.SetEyePosition(camera.GetPosition())
+        selector.SetViewAngle(camera.GetViewAngle())
+        selector.SetFrustumPlanes(planes)
 
     def test_modes_by_name(self):
         s = self.selector
@@ -94,6 +95,39 @@ class TestSelector(unittest.TestCase):
         self.assertLessEqual(self.selector.GetNumberOfBudgetTriangles(), skip)
         self.assertLessEqual(self.selector.GetNumberOfBudgetTriangles(), budget)
         self.assertLessEqual(self.patches.GetNumberOfTriangles(), budget)
+
+    def test_budget_walk_figures(self):
+        # a budget the tolerance cut fits keeps that cut; one that binds runs the queue walk,
+        # and the next binding frame judges cells ahead on every core (MultiThreaded, the
+        # default): the same cut as one thread gives
+        self.selector.AddLight(False, 0.3, 0.4, 1.0, 0.9, 0.4)
+        self.look(3)
+        self.selector.SetTriangleBudget(10 ** 9)
+        self.selector.Update()
+        self.assertTrue(self.selector.GetBudgetKeptToleranceCut())
+        self.assertEqual(self.selector.GetNumberOfCellsJudgedAhead(), 0)
+        budget = self.selector.GetNumberOfBudgetTriangles() // 4
+        self.selector.SetTriangleBudget(budget)
+        self.selector.Update()
+        self.assertTrue(self.selector.GetBudgetWasBinding())
+        self.assertFalse(self.selector.GetBudgetKeptToleranceCut())
+        self.assertEqual(self.selector.GetNumberOfCellsJudgedAhead(), 0)
+        self.look(3.1)
+        self.selector.Update()
+        self.assertGreater(self.selector.GetNumberOfCellsJudgedAhead(), 0)
+        self.assertLessEqual(self.selector.GetNumberOfCellsJudgedAhead(),
+                             self.selector.GetNumberOfVisitedNodes())
+        state = vtk_to_numpy(self.selector.GetOutput().GetNodeData().GetArray('CutState')).copy()
+        serial = vtkPerceptualLODSelector()
+        serial.SetInputConnection(self.builder.GetOutputPort())
+        serial.MultiThreadedOff()
+        serial.AddLight(False, 0.3, 0.4, 1.0, 0.9, 0.4)
+        self.look(3.1, serial)
+        serial.SetTriangleBudget(budget)
+        serial.Update()
+        self.assertEqual(serial.GetNumberOfCellsJudgedAhead(), 0)
+        self.assertTrue(np.array_equal(
+            state, vtk_to_numpy(serial.GetOutput().GetNodeData().GetArray('CutState'))))
 
     def test_foveation_factors(self):
         # screen foveation bounds its factor from a table: few cells compute it, and none
