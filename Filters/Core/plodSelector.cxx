@@ -1392,13 +1392,17 @@ void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8
   if (drawn < 0)
     return; // an invalid octree's cut cannot be counted: the walk's count stays
   // The walk's count follows the drawn one closely, so its ratio to the budget walked with
-  // predicts where to walk next: down while more than the budget are drawn (at least one
-  // less), up while less than LowFill of it are drawn and the budget bound (at least one more).
-  // The largest budget found drawing no more than B is kept, and walked again last when the
-  // last walk drew too many.
+  // predicts where to walk next: down while more than the budget are drawn, up while less than
+  // LowFill of it are drawn and the budget bound (at least one more). The drawn count is not
+  // monotone in the budget walked with (the representative vertices turn other faces), so a
+  // step down is at least the excess, doubled at each walk that still draws too many: walks
+  // that each drew a few over a budget a few triangles lower every time, until the walks ran
+  // out, were measured on Lucy in motion. The largest budget found drawing no more than B is
+  // kept, and walked again last when the last walk drew too many.
   constexpr double LowFill = 0.95;
   constexpr int MaxWalks = 6;
   int64_t best = drawn <= B ? B : -1, bestDrawn = drawn;
+  int64_t shrink = 1; // how many times the excess the next step down takes, at least
   for (int walks = 1; walks < MaxWalks; ++walks)
   {
     const bool over = drawn > B;
@@ -1407,8 +1411,9 @@ void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8
     const int64_t now = walked;
     const double scaled = std::floor(double(now) * double(B) / double(std::max<int64_t>(1, drawn)));
     const int64_t next = over
-      ? std::max<int64_t>(1, std::min<int64_t>(now - 1, int64_t(scaled)))
+      ? std::max<int64_t>(1, std::min<int64_t>(now - shrink * (drawn - B), int64_t(scaled)))
       : std::max<int64_t>(now + 1, int64_t(std::min(scaled, 4.0 * double(B))));
+    shrink = over ? 2 * shrink : 1;
     if ((over && now <= 1) || (best >= 0 && over && next <= best) || (!over && next <= best))
       break;
     rewalk(next);
