@@ -2013,6 +2013,10 @@ TEST(PerceptualLODSelector, TriangleBudgetThroughTheFilter)
   const double eye[3] = { 0.5, 0.8, 3.0 }, focus[3] = { 0, 0, 0 };
   p.Look(eye, focus);
   EXPECT_EQ(p.Selector->GetTriangleBudget(), 0);
+  // the walk's own count (estimated), forwarded; the exact count, the default, is held to the
+  // drawn triangles in BudgetOfDrawnTrianglesOnClosedModels
+  EXPECT_TRUE(p.Selector->GetExactTriangleBudget());
+  p.Selector->ExactTriangleBudgetOff();
   p.Selector->SetTriangleBudget(-7); // negative: off (clamped to 0)
   EXPECT_EQ(p.Selector->GetTriangleBudget(), 0);
   p.Patches->Update();
@@ -2066,6 +2070,7 @@ TEST(PerceptualLODSelector, BudgetStopRuleThroughTheFilter)
   p.Selector->AddLight(false, 0.3, 0.6, 1.0, 0.8, 0.5);
   const double eye[3] = { 0.5, 0.8, 3.0 }, focus[3] = { 0, 0, 0 };
   p.Look(eye, focus);
+  p.Selector->ExactTriangleBudgetOff(); // the walk's own count (the rule is the walk's)
   EXPECT_EQ(p.Selector->GetBudgetStopRule(), vtkPerceptualLODSelector::BUDGET_SKIP_MISFITS);
   p.Selector->SetBudgetStopRule(7); // clamped
   EXPECT_EQ(p.Selector->GetBudgetStopRule(), vtkPerceptualLODSelector::BUDGET_SKIP_MISFITS);
