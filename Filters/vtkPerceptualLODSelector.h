@@ -370,7 +370,9 @@ public:
    * they exceed it (a larger one while they fill less than 95 % of it), so that no more than
    * TriangleBudget are drawn (unless the floors need more) with the patch generator's default
    * fold handling; this costs about one patch generation more per frame, and another walk and
-   * count when the first misses. GetNumberOfBudgetTriangles is then the exact drawn count.
+   * count when the first misses. GetNumberOfBudgetTriangles is then the exact drawn count,
+   * except where nothing needs counting: a budget that does not bind on a surface whose back
+   * faces are drawn (and no ghosts) draws at most the cut's count, which it reports.
    * Off, the budget counts the back faces from the input triangles' corners (see
    * TriangleBudget), and vtkMultiscalePatchGenerator can draw a few percent more or fewer
    * triangles than the budget, for a selection 1.6 to 4 times cheaper (docs/benchmarks.md).

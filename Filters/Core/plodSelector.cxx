@@ -1388,17 +1388,21 @@ void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8
     stats.Visited += visited;
   };
   const int64_t B = in.TriangleBudget;
+  // the cut's count bounds the drawn one without back faces hidden or ghosts: a walk that did
+  // not bind draws no more than B, and no fill is asked of it
+  if (!stats.BudgetBinding && !in.HideBackFaces && !this->View.PointGhost)
+    return;
   int64_t drawn = count();
   if (drawn < 0)
     return; // an invalid octree's cut cannot be counted: the walk's count stays
-  // The walk's count follows the drawn one closely, so its ratio to the budget walked with
-  // predicts where to walk next: down while more than the budget are drawn, up while less than
-  // LowFill of it are drawn and the budget bound (at least one more). The drawn count is not
-  // monotone in the budget walked with (the representative vertices turn other faces), so a
-  // step down is at least the excess, doubled at each walk that still draws too many: walks
-  // that each drew a few over a budget a few triangles lower every time, until the walks ran
-  // out, were measured on Lucy in motion. The largest budget found drawing no more than B is
-  // kept, and walked again last when the last walk drew too many.
+  // The walk's count follows the drawn one closely: down by the excess while more than the
+  // budget are drawn, up by the ratio of the budget to the drawn count while less than LowFill
+  // of it are drawn and the budget bound (at least one more). The drawn count is not monotone
+  // in the budget walked with (the representative vertices turn other faces), so each walk
+  // that still draws too many doubles the next step down: walks that each drew a few over a
+  // budget a few triangles lower every time, until the walks ran out, were measured on Lucy in
+  // motion. The largest budget found drawing no more than B is kept, and walked again last when
+  // the last walk drew too many.
   constexpr double LowFill = 0.95;
   constexpr int MaxWalks = 6;
   int64_t best = drawn <= B ? B : -1, bestDrawn = drawn;
@@ -1411,7 +1415,7 @@ void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8
     const int64_t now = walked;
     const double scaled = std::floor(double(now) * double(B) / double(std::max<int64_t>(1, drawn)));
     const int64_t next = over
-      ? std::max<int64_t>(1, std::min<int64_t>(now - shrink * (drawn - B), int64_t(scaled)))
+      ? std::max<int64_t>(1, now - shrink * (drawn - B))
       : std::max<int64_t>(now + 1, int64_t(std::min(scaled, 4.0 * double(B))));
     shrink = over ? 2 * shrink : 1;
     if ((over && now <= 1) || (best >= 0 && over && next <= best) || (!over && next <= best))

@@ -146,13 +146,15 @@
  *   outside the frustum are counted (docs/results/budget.md). SelectionInput::ExactBudget
  *   removes the excess: after the walk the drawn triangles are counted as GeneratePatches
  *   decides them (CountDrawnTriangles: every corner's representative, about the cost of making
- *   the patches), and the walk runs again with the budget scaled by budget / drawn, down (at
- *   least one less) while they exceed the budget and up (at least one more) while they fill
- *   less than 95 % of it; the largest budget found that fits is kept. Without back faces hidden
- *   or ghosts the count is the
- *   cut's, exactly. Counting the back faces reads the corners of every counted triangle, which
- *   the walk otherwise never touches: the budget walk takes two to three times as long on a
- *   closed scan (docs/benchmarks.md).
+ *   the patches), and the walk runs again with the budget scaled by budget / drawn, down (by at
+ *   least the excess, doubled at each walk still over) while they exceed the budget and up (at
+ *   least one more) while they fill less than 95 % of it; the largest budget found that fits
+ *   is kept. Without back faces hidden or ghosts the walk's count is the cut's, which bounds
+ *   the drawn count from above: a cut that did not bind then draws no more than the budget,
+ *   and it is not counted (BudgetTriangles stays the cut's count: counting would cost a patch
+ *   generation to tell how far below the budget the drawn count lies). Counting the back faces
+ * reads the corners of every counted triangle, which the walk otherwise never touches: the budget
+ * walk takes two to three times as long on a closed scan (docs/benchmarks.md).
  * - Floors: the cells holding the eye and those coarser than MinimumLevel are refined at once,
  *   whatever the budget: the first because its error is unbounded, the second because the
  *   distributed pieces must agree. When they alone exceed the budget, the count exceeds it and
