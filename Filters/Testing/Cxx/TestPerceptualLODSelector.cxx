@@ -1407,13 +1407,8 @@ struct BudgetScene
   }
   plod::SelectionStats Select(const plod::SelectionInput& in)
   {
-    return this->SelectWith(this->Kernel, in);
-  }
-  /// A selection by `kernel` (set to this octree) into the scene's arrays.
-  plod::SelectionStats SelectWith(plod::Selector& kernel, const plod::SelectionInput& in)
-  {
     plod::SelectionStats stats;
-    kernel.Select(in, this->State.data(), this->Reason.data(), this->Mask.data(), stats);
+    this->Kernel.Select(in, this->State.data(), this->Reason.data(), this->Mask.data(), stats);
     return stats;
   }
   /// Triangles GeneratePatches draws for the current cut (every triangle it may draw: no
@@ -2344,14 +2339,15 @@ TEST(PerceptualLODSelector, ParallelBudgetWalkGivesTheSerialCut)
                 std::to_string(moving.TriangleBudget);
               plod::SelectionStats stats;
               parallel.Select(moving, s.data(), r.data(), m.data(), stats);
-              plod::Selector serial; // (a fresh one writes into cleared arrays)
+              // a fresh serial selector, into arrays of its own
+              plod::Selector serial;
               serial.SetOctree(scene.View);
-              for (auto* a : { &scene.State, &scene.Reason, &scene.Mask })
-                std::fill(a->begin(), a->end(), 0);
-              const plod::SelectionStats expected = scene.SelectWith(serial, moving);
-              ASSERT_EQ(s, scene.State) << where;
-              ASSERT_EQ(r, scene.Reason) << where;
-              ASSERT_EQ(m, scene.Mask) << where;
+              std::vector<uint8_t> s1(s.size(), 0), r1(s.size(), 0), m1(s.size(), 0);
+              plod::SelectionStats expected;
+              serial.Select(moving, s1.data(), r1.data(), m1.data(), expected);
+              ASSERT_EQ(s, s1) << where;
+              ASSERT_EQ(r, r1) << where;
+              ASSERT_EQ(m, m1) << where;
               EXPECT_EQ(stats.InCut, expected.InCut) << where;
               EXPECT_EQ(stats.Drawn, expected.Drawn) << where;
               EXPECT_EQ(stats.Opened, expected.Opened) << where;
