@@ -1,0 +1,156 @@
+"""A flight over a saved octree as a viewer flies it, with what the disk costs: the first frame
+with the file's pages out of the page cache, then an orbit and a zoom down to the finest level,
+vtkPerceptualLODSelector (SRCC, default tolerances, a headlight, 1920 x 1080, the camera's
+frustum; the zoom ends four finest cells from a surface point) and vtkMultiscalePatchGenerator (every core) each frame, no rendering (the frame's CPU
+work and its waits on the disk).
+
+    PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
+        Testing/Benchmarks/plod_flight.py model.plod [--frames 300] [--budget 0] [--csv out.csv]
+
+Per frame: milliseconds (select + patches), the major page faults taken during it (a fault the
+page cache could not serve: the frame waited on the disk), the process's resident memory. The
+file's pages are dropped from the page cache first (posix_fadvise DONTNEED, which needs no
+privilege), so the first frame reads from the disk; the octree file is mapped (version 1), so
+its pages come and go as the kernel decides. Prints the first frame, the medians and maxima of
+the rest, the frames that waited on the disk after the first, and resident memory over the
+flight. Scan-like models of any size come from plodGenerateScan and PerceptualLODMain --save
+(docs/benchmarks.md).
+"""
+import argparse
+import csv
+import math
+import os
+import resource
+import statistics
+import time
+
+from vtkmodules.vtkRenderingCore import vtkCamera
+
+from perceptual_lod import (vtkMultiscaleOctreeReader, vtkMultiscalePatchGenerator,
+                            vtkPerceptualLODSelector)
+
+PAGE = os.sysconf('SC_PAGE_SIZE')
+
+
+def resident_mib():
+    with open('/proc/self/statm') as f:
+        return int(f.read().split()[1]) * PAGE / 2 ** 20
+
+
+def major_faults():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_majflt
+
+
+def drop_from_page_cache(path):
+    """Asks the kernel to drop the file's clean pages from the page cache; False if it cannot."""
+    try:
+        fd = os.open(path, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+            os.posix_fadvise(fd, 0, 0, os.POSIX_FADV_DONTNEED)
+        finally:
+            os.close(fd)
+        return True
+    except OSError:
+        return False
+
+
+def flight(frames, closest):
+    """(azimuth in degrees, distance in root edges, zoomed) per frame: an orbit about the root
+    cube's centre at mid distance over the first half, then a zoom towards a point of the
+    surface from mid distance down to `closest` root edges (the same factor every frame)."""
+    half = frames // 2
+    path = [(360.0 * k / half, 1.9, False) for k in range(half)]
+    rest = frames - half
+    for k in range(rest):
+        f = k / max(1, rest - 1)
+        path.append((0.0, 1.9 * (closest / 1.9) ** f, True))
+    return path
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument('octree')
+    ap.add_argument('--frames', type=int, default=300)
+    ap.add_argument('--budget', type=int, default=0, help='triangle budget (0: none)')
+    ap.add_argument('--csv', help='per-frame figures')
+    args = ap.parse_args()
+
+    dropped = drop_from_page_cache(args.octree)
+    rss0, faults0 = resident_mib(), major_faults()
+    t0 = time.perf_counter()
+    reader = vtkMultiscaleOctreeReader()
+    reader.SetFileName(args.octree)
+    reader.Update()
+    open_ms = (time.perf_counter() - t0) * 1e3
+    bounds = [0.0] * 6
+    reader.GetOutput().GetNodeBounds(0, bounds)
+    centre = [0.5 * (bounds[2 * a] + bounds[2 * a + 1]) for a in range(3)]
+    edge = bounds[1] - bounds[0]
+    # the zoom's target: the vertex of the last node, a cell of the finest level (nodes are
+    # stored level by level), on the surface; the zoom ends four of its cells away
+    octree = reader.GetOutput()
+    last = octree.GetNumberOfNodes() - 1
+    target = [0.0] * 3
+    octree.GetNodeVertex(last, target)
+    cell = [0.0] * 6
+    octree.GetNodeBounds(last, cell)
+    closest = 4 * (cell[1] - cell[0]) / edge
+
+    selector = vtkPerceptualLODSelector()
+    selector.SetInputConnection(reader.GetOutputPort())
+    selector.SetTriangleBudget(args.budget)
+    selector.SetViewportSize(1920, 1080)
+    selector.AddLight(False, 0, 0, 1, 1, 0)
+    patches = vtkMultiscalePatchGenerator()
+    patches.SetInputConnection(selector.GetOutputPort())
+
+    rows = []
+    for k, (azimuth, distance, zoomed) in enumerate(flight(args.frames, closest)):
+        a = math.radians(azimuth)
+        d = distance * edge
+        focus = target if zoomed else centre
+        eye = (focus[0] + d * math.sin(a), focus[1], focus[2] + d * math.cos(a))
+        camera = vtkCamera()
+        camera.SetFocalPoint(focus)
+        camera.SetPosition(eye)
+        camera.SetViewAngle(30)
+        camera.SetClippingRange(d * 0.01, d * 10)
+        planes = [0.0] * 24
+        camera.GetFrustumPlanes(1920 / 1080, planes)
+        selector.SetEyePosition(eye)
+        selector.SetFrustumPlanes(planes)
+        selector.SetLight(0, False, *eye, 1, 0)
+        before = major_faults()
+        t = time.perf_counter()
+        patches.Update()
+        ms = (time.perf_counter() - t) * 1e3
+        rows.append(dict(frame=k, azimuth=azimuth, distance=distance, ms=ms,
+                         triangles=patches.GetNumberOfTriangles(),
+                         major_faults=major_faults() - before, resident_mib=resident_mib()))
+
+    if args.csv:
+        with open(args.csv, 'w', newline='') as f:
+            w = csv.DictWriter(f, list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+    first, rest = rows[0], rows[1:]
+    ms = [r['ms'] for r in rest]
+    waited = [r for r in rest if r['major_faults'] > 0]
+    median = statistics.median(ms)
+    print(f'{args.octree}: {os.path.getsize(args.octree) / 2 ** 20:.0f} MiB, page cache '
+          f'{"dropped" if dropped else "NOT dropped (warm)"}; open {open_ms:.1f} ms, '
+          f'resident {rss0:.0f} MiB before')
+    print(f'first frame {first["ms"]:.1f} ms ({first["major_faults"]} major faults, '
+          f'{first["triangles"]} triangles)')
+    print(f'frames 2-{len(rows)}: median {median:.2f} ms, max {max(ms):.2f} ms, '
+          f'{sum(m > 2 * median for m in ms)} over twice the median; '
+          f'{len(waited)} waited on the disk ({sum(r["major_faults"] for r in waited)} faults); '
+          f'triangles median {statistics.median(r["triangles"] for r in rest):.0f}')
+    rss = [r['resident_mib'] for r in rows]
+    print(f'resident MiB over the flight: {min(rss):.0f} min, {statistics.median(rss):.0f} median, '
+          f'{max(rss):.0f} max; major faults in all {major_faults() - faults0}')
+
+
+if __name__ == '__main__':
+    main()
