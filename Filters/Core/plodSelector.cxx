@@ -1437,7 +1437,7 @@ void Selector::FitDrawnTriangles(const SelectionInput& in, uint8_t* state, uint8
   stats.BudgetTriangles = drawn;
 }
 
-namespace
+namespace detail
 {
 /**
  * The budget's count kept by a tolerance walk tried as a budget's cut
@@ -1465,6 +1465,11 @@ struct DrawnTally
     return !this->Over();
   }
 };
+} // namespace detail
+
+namespace
+{
+using detail::DrawnTally;
 
 /// A walker's share of a DrawnTally (or nothing, without one: the walk then compiles as it
 /// would without counting).
@@ -1631,7 +1636,7 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
 // the benchmark scene: 61 ns per visited node, against 67 ns with calls; 63 ns before the walks
 // shared Judge)
 [[gnu::flatten]] void Selector::SelectDepthFirst(const SelectionInput& in, uint8_t* state,
-  uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
+  uint8_t* reason, uint8_t* cullMask, SelectionStats& stats, DrawnTally* tally)
 {
   const Frame frame = MakeFrame(
     this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
@@ -1642,37 +1647,28 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
   stack.push_back({ 0, { 0, 0, 0 }, false, 0 });
   this->Front.clear();
   stats.BudgetTriangles = WithPolicy(frame.Model, [&](auto policy) {
+    constexpr Policy P = decltype(policy)::value;
+    if (tally && this->For)
+      return WalkInParallel<P, Entry, true>(frame, stack, cut, this->For, this->TaskStacks,
+        this->TaskPrevious, this->TaskStats, this->TaskTriangles, tally);
+    if (tally)
+      return WalkDepthFirst<P, false, Entry, true>(frame, stack, cut, nullptr, tally);
     if (this->For && !in.Incremental)
-      return WalkInParallel<decltype(policy)::value>(frame, stack, cut, this->For, this->TaskStacks,
-        this->TaskPrevious, this->TaskStats, this->TaskTriangles);
-    return WalkDepthFirst<decltype(policy)::value, false>(
-      frame, stack, cut, in.Incremental ? &this->Front : nullptr);
+      return WalkInParallel<P>(frame, stack, cut, this->For, this->TaskStacks, this->TaskPrevious,
+        this->TaskStats, this->TaskTriangles);
+    return WalkDepthFirst<P, false>(frame, stack, cut, in.Incremental ? &this->Front : nullptr);
   });
   this->FrontTriangles = stats.BudgetTriangles;
   stats.CutTriangles = stats.BudgetTriangles;
 }
 
-// flatten: as SelectDepthFirst
-[[gnu::flatten]] bool Selector::WalkToleranceCutWithinBudget(const SelectionInput& in,
-  uint8_t* state, uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
+bool Selector::WalkToleranceCutWithinBudget(const SelectionInput& in, uint8_t* state,
+  uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
-  const Frame frame = MakeFrame(
-    this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
-  CutWriter cut{ state, reason, cullMask, this->Previous, stats };
-  std::vector<Entry>& stack = this->Stack;
-  stack.clear();
-  stack.push_back({ 0, { 0, 0, 0 }, false, 0 });
   DrawnTally tally(in.TriangleBudget);
-  const int64_t triangles = WithPolicy(frame.Model, [&](auto policy) {
-    constexpr Policy P = decltype(policy)::value;
-    if (this->For)
-      return WalkInParallel<P, Entry, true>(frame, stack, cut, this->For, this->TaskStacks,
-        this->TaskPrevious, this->TaskStats, this->TaskTriangles, &tally);
-    return WalkDepthFirst<P, false, Entry, true>(frame, stack, cut, nullptr, &tally);
-  });
+  this->SelectDepthFirst(in, state, reason, cullMask, stats, &tally);
   if (tally.Over())
     return false;
-  stats.CutTriangles = triangles;
   stats.BudgetTriangles = tally.Total.load();
   stats.BudgetToleranceCut = true;
   return true;

@@ -425,6 +425,8 @@ struct PreparedLight
 
 /// Screen foveation's factor tabulated for one rate (plodSelector.cxx, FoveaTable), kept from
 /// frame to frame and rebuilt when the rate changes.
+struct DrawnTally; // the budget's count of a tolerance walk tried first (plodSelector.cxx)
+
 struct FoveaTable
 {
   std::vector<double> Values; ///< empty until built
@@ -554,8 +556,10 @@ private:
   };
 
   void ClearPrevious(uint8_t* state, uint8_t* reason, uint8_t* cullMask);
+  /// The tolerance walk; with `tally`, counting what the budget counts and giving up once the
+  /// count exceeds its budget (WalkToleranceCutWithinBudget).
   void SelectDepthFirst(const SelectionInput& in, uint8_t* state, uint8_t* reason,
-    uint8_t* cullMask, SelectionStats& stats);
+    uint8_t* cullMask, SelectionStats& stats, detail::DrawnTally* tally = nullptr);
   void SelectIncremental(const SelectionInput& in, uint8_t* state, uint8_t* reason,
     uint8_t* cullMask, SelectionStats& stats);
   /// The budget walk with a budget of `budget` triangles (in.TriangleBudget, or the exact

@@ -2098,21 +2098,29 @@ TEST(PerceptualLODSelector, BudgetStopRuleThroughTheFilter)
   EXPECT_NE(text.str().find("stop rule SkipMisfits"), std::string::npos) << text.str();
 }
 
+namespace
+{
+/// A ParallelFor that runs the ranges one after the other, the last first.
+void Backwards(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body)
+{
+  grain = std::max<int64_t>(1, grain);
+  for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
+    body(b, std::min(n, b + grain));
+}
+
+/// A ParallelFor over vtkSMPTools (as the VTK filter's).
+void SMPFor(int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body)
+{
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
+    [&body](vtkIdType b, vtkIdType e) { body(b, e); });
+}
+} // namespace
+
 // The tolerance walk in parallel (Selector::SetParallelFor): over the models, views and every
 // mode, the cut, reasons, cull masks and figures of the serial walk, node for node, whether the
 // subtrees run in order, backwards, or on 1, 2 and 8 vtkSMPTools threads.
 TEST(PerceptualLODSelector, ParallelWalkGivesTheSerialCut)
 {
-  plod::ParallelFor backwards = [](int64_t n, int64_t grain,
-                                  const std::function<void(int64_t, int64_t)>& body) {
-    grain = std::max<int64_t>(1, grain);
-    for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
-      body(b, std::min(n, b + grain));
-  };
-  auto smp = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
-    vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
-      [&body](vtkIdType b, vtkIdType e) { body(b, e); });
-  };
   const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { -1.2, 0.3, 1.9 },
     { 0.05, 0.02, 0.3 } };
   int cases = 0;
@@ -2137,11 +2145,11 @@ TEST(PerceptualLODSelector, ParallelWalkGivesTheSerialCut)
           if (run == 0)
             parallel.SetParallelFor(plod::SerialFor);
           else if (run == 1)
-            parallel.SetParallelFor(backwards);
+            parallel.SetParallelFor(Backwards);
           else
           {
             vtkSMPTools::Initialize(run == 2 ? 1 : run == 3 ? 2 : 8);
-            parallel.SetParallelFor(smp);
+            parallel.SetParallelFor(SMPFor);
           }
           std::vector<uint8_t> s(state.size(), 0), r(state.size(), 0), m(state.size(), 0);
           plod::SelectionStats stats;
@@ -2180,10 +2188,6 @@ TEST(PerceptualLODSelector, ParallelWalkGivesTheSerialCut)
 // and the one after tries the tolerance cut again.
 TEST(PerceptualLODSelector, ToleranceCutFirstGivesTheQueueWalksCut)
 {
-  auto smp = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
-    vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
-      [&body](vtkIdType b, vtkIdType e) { body(b, e); });
-  };
   const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { -1.2, 0.3, 1.9 },
     { 0.05, 0.02, 0.3 } };
   int kept = 0, givenUp = 0;
@@ -2239,7 +2243,7 @@ TEST(PerceptualLODSelector, ToleranceCutFirstGivesTheQueueWalksCut)
           if (threads > 0)
           {
             vtkSMPTools::Initialize(threads);
-            first.SetParallelFor(smp);
+            first.SetParallelFor(SMPFor);
           }
           for (const int64_t budget : { std::numeric_limits<int64_t>::max(), N, N - 1, N / 3 })
           {
@@ -2249,7 +2253,7 @@ TEST(PerceptualLODSelector, ToleranceCutFirstGivesTheQueueWalksCut)
             plod::Selector fresh;
             fresh.SetOctree(scene.View);
             if (threads > 0)
-              fresh.SetParallelFor(smp);
+              fresh.SetParallelFor(SMPFor);
             const Run b = select(fresh, budget, true);
             expectSame(a, b, where + " budget " + std::to_string(budget));
             EXPECT_EQ(b.Stats.BudgetToleranceCut, budget >= N) << where << " budget " << budget;
@@ -2282,16 +2286,6 @@ TEST(PerceptualLODSelector, ToleranceCutFirstGivesTheQueueWalksCut)
 // and so is the tolerance walk's that follows (it shares the selector's task vectors).
 TEST(PerceptualLODSelector, ParallelBudgetWalkGivesTheSerialCut)
 {
-  plod::ParallelFor backwards = [](int64_t n, int64_t grain,
-                                  const std::function<void(int64_t, int64_t)>& body) {
-    grain = std::max<int64_t>(1, grain);
-    for (int64_t b = ((n - 1) / grain) * grain; b >= 0; b -= grain)
-      body(b, std::min(n, b + grain));
-  };
-  auto smp = [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
-    vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
-      [&body](vtkIdType b, vtkIdType e) { body(b, e); });
-  };
   const std::vector<std::array<double, 3>> eyes = { { 0.4, 0.9, 3.2 }, { -1.2, 0.3, 1.9 },
     { 0.05, 0.02, 0.3 } };
   const double fractions[] = { 0.5, 0.3, 0.3, 0.1, 0.7, 0.45, 0 }; // 0: no budget, last
@@ -2322,11 +2316,11 @@ TEST(PerceptualLODSelector, ParallelBudgetWalkGivesTheSerialCut)
             if (run == 0)
               parallel.SetParallelFor(plod::SerialFor);
             else if (run == 1)
-              parallel.SetParallelFor(backwards);
+              parallel.SetParallelFor(Backwards);
             else
             {
               vtkSMPTools::Initialize(run == 2 ? 2 : 8);
-              parallel.SetParallelFor(smp);
+              parallel.SetParallelFor(SMPFor);
             }
             std::vector<uint8_t> s(scene.State.size(), 0), r(s.size(), 0), m(s.size(), 0);
             plod::SelectionInput moving = in;
