@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMultiscaleOctreeBuilder.h"
+#include "vtkPerceptualLODSMP.h"
 
 #include "plodBuildUtil.h"
 #include "plodOctreeBuilder.h"
@@ -42,19 +43,6 @@ namespace
 {
 /// Share of the progress of a build from a file that its reading takes.
 constexpr double ReadShare = 0.25;
-
-/// The kernels' ranges over vtkSMPTools, or one after the other.
-plod::ParallelFor RangesFor(bool multiThreaded)
-{
-  if (!multiThreaded)
-  {
-    return plod::SerialFor;
-  }
-  return [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
-    vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
-      [&body](vtkIdType b, vtkIdType e) { body(b, e); });
-  };
-}
 }
 
 namespace
@@ -791,7 +779,7 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
     ? std::string(".")
     : octreeFile.substr(0, std::max<size_t>(slash, 1));
   split.Progress = progress;
-  split.Parallel = RangesFor(this->MultiThreaded);
+  split.Parallel = plodvtk::SMPRanges(this->MultiThreaded);
   plod::PLYPieces pieces;
   std::string why;
   if (!pieces.Open(file, split, &why))
@@ -817,6 +805,7 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
   assembly.MemoryLimit = split.MemoryLimit;
   assembly.Progress = progress;
   assembly.Parallel = split.Parallel;
+  assembly.Layout = this->CompactOctreeFile ? plod::FileLayout::Compact : plod::FileLayout::Mapped;
   plod::AssemblyReport report;
   if (!plod::WriteOctreeFileFromPieces(pieces, octreeFile, assembly, &report, &why))
   {
@@ -864,7 +853,7 @@ int vtkMultiscaleOctreeBuilder::RunBuild(const plod::BuildInput& in, bool hasMat
   std::copy(this->RootCubeOrigin, this->RootCubeOrigin + 3, params.RootOrigin);
   params.RootEdge = this->RootCubeEdge;
 
-  const plod::ParallelFor pfor = RangesFor(this->MultiThreaded);
+  const plod::ParallelFor pfor = plodvtk::SMPRanges(this->MultiThreaded);
   plod::Allocator allocate;
   allocate.Nodes = [output](int64_t nodes, int64_t points, int64_t triangles) {
     output->Allocate(static_cast<vtkIdType>(nodes), static_cast<vtkIdType>(points),

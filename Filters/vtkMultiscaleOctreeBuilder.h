@@ -191,6 +191,17 @@ public:
 
   ///@{
   /**
+   * Write OctreeFileName in the compact layout (arrays compressed, decoded into memory when the
+   * file is read; see vtkMultiscaleOctreeWriter::SetCompact) instead of the mapped one. The
+   * output is then the file as vtkMultiscaleOctreeReader decodes it. Default off.
+   */
+  vtkSetMacro(CompactOctreeFile, bool);
+  vtkGetMacro(CompactOctreeFile, bool);
+  vtkBooleanMacro(CompactOctreeFile, bool);
+  ///@}
+
+  ///@{
+  /**
    * Finest level `L_m`. -1 (default) chooses it from the input (see the class docs); 0 builds
    * the root alone; at most GetMaximumFinestLevel(). Other values are reported as errors.
    */
@@ -352,6 +363,7 @@ protected:
   char* FileName;
   char* OctreeFileName = nullptr;
   bool BuildInPieces = false;
+  bool CompactOctreeFile = false;
   int FinestLevel;
   double EstimatedMemory;
   int VertexRule;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMultiscaleOctreeReader.h"
+#include "vtkPerceptualLODSMP.h"
 
 #include "plodOctreeFile.h"
 #include "vtkDataArray.h"
@@ -87,6 +88,7 @@ int vtkMultiscaleOctreeReader::RequestData(
   output->Initialize();
   this->ErrorMessage.clear();
   this->Mapped = false;
+  this->Compact = false;
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
   if (!this->FileName || !*this->FileName)
@@ -97,7 +99,8 @@ int vtkMultiscaleOctreeReader::RequestData(
   }
   plod::OctreeFile file;
   std::string why;
-  if (!plod::OpenOctreeFile(this->FileName, this->VerifyChecksums, this->MemoryMap, file, &why))
+  if (!plod::OpenOctreeFile(
+        this->FileName, this->VerifyChecksums, this->MemoryMap, file, &why, plodvtk::SMPRanges()))
   {
     this->ErrorMessage = why;
     vtkErrorMacro(<< "Cannot read the octree: " << why << ". Empty octree.");
@@ -149,6 +152,7 @@ int vtkMultiscaleOctreeReader::RequestData(
   }
   output->Modified();
   this->Mapped = file.Mapped;
+  this->Compact = file.Compact;
   timer->StopTimer();
   this->ReadTime = timer->GetElapsedTime();
   return 1;
@@ -162,6 +166,7 @@ void vtkMultiscaleOctreeReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "VerifyChecksums: " << this->VerifyChecksums << "\n";
   os << indent << "MemoryMap: " << this->MemoryMap << "\n";
   os << indent << "Mapped: " << this->Mapped << "\n";
+  os << indent << "Compact: " << this->Compact << "\n";
   os << indent << "ReadTime: " << this->ReadTime << "\n";
   os << indent << "ErrorMessage: " << this->ErrorMessage << "\n";
 }

@@ -32,6 +32,11 @@
  * every filter refuse the octree with an error instead of crashing on a page past the new end.
  * The file is read again only when the reader is asked to (Modified(), or a new FileName).
  *
+ * A compact file (vtkMultiscaleOctreeWriter::SetCompact) is not mapped: its arrays are read and
+ * decoded into memory when the file is opened, over every core, their checksums always verified
+ * (the bytes are read anyway); GetCompact() tells. It then takes the memory of the whole octree
+ * at once, and the file can change underneath without harm.
+ *
  * @sa vtkMultiscaleOctreeWriter vtkMultiscaleOctree
  */
 #ifndef vtkMultiscaleOctreeReader_h
@@ -72,6 +77,9 @@ public:
   /// True when the last read mapped the file (false: it was read into memory).
   vtkGetMacro(Mapped, bool);
 
+  /// True when the last read decoded a compact file (vtkMultiscaleOctreeWriter::SetCompact).
+  vtkGetMacro(Compact, bool);
+
   /// Why the last read failed ("" after a success).
   const char* GetErrorMessage() { return this->ErrorMessage.c_str(); }
 
@@ -92,6 +100,7 @@ protected:
   bool VerifyChecksums = false;
   bool MemoryMap = true;
   bool Mapped = false;
+  bool Compact = false;
   double ReadTime = 0;
   std::string ErrorMessage;
 

@@ -6,6 +6,7 @@
 #include "vtkInformation.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkObjectFactory.h"
+#include "vtkPerceptualLODSMP.h"
 
 #include <vector>
 
@@ -92,8 +93,11 @@ void vtkMultiscaleOctreeWriter::WriteData()
     header.Clusters = v.NumberOfClusters;
     arrays = plod::FileArraysOf(v);
   }
+  plod::FileWriteOptions options;
+  options.Layout = this->Compact ? plod::FileLayout::Compact : plod::FileLayout::Mapped;
+  options.Parallel = plodvtk::SMPRanges();
   std::string why;
-  if (!plod::WriteOctreeFile(this->FileName, header, arrays, &why))
+  if (!plod::WriteOctreeFile(this->FileName, header, arrays, options, &why))
   {
     fail(why, vtkErrorCode::CannotOpenFileError);
   }
@@ -104,5 +108,6 @@ void vtkMultiscaleOctreeWriter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "Compact: " << this->Compact << "\n";
   os << indent << "ErrorMessage: " << this->ErrorMessage << "\n";
 }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkPerceptualLODSelector.h"
+#include "vtkPerceptualLODSMP.h"
 
 #include "plodSelector.h"
 #include "plodViewModel.h"
@@ -433,11 +434,7 @@ void vtkPerceptualLODSelector::Select(const plod::OctreeView& view, vtkMTimeType
   }
   if (this->MultiThreaded && vtkSMPTools::GetEstimatedNumberOfThreads() > 1)
   {
-    I.Kernel.SetParallelFor(
-      [](int64_t n, int64_t grain, const std::function<void(int64_t, int64_t)>& body) {
-        vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(grain),
-          [&body](vtkIdType b, vtkIdType e) { body(b, e); });
-      });
+    I.Kernel.SetParallelFor(plodvtk::SMPRanges());
   }
   else
   {

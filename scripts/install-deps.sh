@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
   libvtk9-dev python3-vtk9 python3-numpy python3-matplotlib mpi-default-dev
-  libeigen3-dev libgtest-dev libbenchmark-dev libmeshoptimizer-dev
+  libeigen3-dev libgtest-dev libbenchmark-dev libmeshoptimizer-dev libzstd-dev
   xvfb xauth libgl1-mesa-dri
   clang-14 libclang-rt-14-dev clang-format-14 python3-skimage
   # the ParaView plugin (ParaView/): ParaView 5.11 and its development files. Not

@@ -4,7 +4,7 @@
 // uniform cut. Usage:
 //
 //   PerceptualLODMain [model.ply|.stl|.obj|.vtp|.plod] [--level N] [--mean] [--serial]
-//                     [--memory SIZE] [--save octree.plod] [--pieces]
+//                     [--memory SIZE] [--save octree.plod] [--pieces] [--compact]
 //
 // Without a file it uses a generated detailed model (a displaced sphere of about 500k
 // triangles), so it runs anywhere. --save writes the built octree to a file that this program,
@@ -15,8 +15,9 @@
 // refused before anything is read, unless --save names a file: a PLY model too large for the
 // memory limit is then built in pieces, one after the other, each within the limit
 // (plodPieces.h, plodPieceAssembly.h), straight into the octree file, with temporary files
-// beside it; --pieces builds that way whatever the size. Progress, with the time left, goes to
-// stdout.
+// beside it; --pieces builds that way whatever the size. --compact saves the compact layout
+// (arrays compressed, about a third of the bytes, decoded into memory when opened) instead of
+// the mapped one. Progress, with the time left, goes to stdout.
 #include "plodMeshFileCheck.h"
 #include "plodOctreeBuilder.h"
 #include "plodPLYRead.h"
@@ -179,7 +180,7 @@ int main(int argc, char* argv[])
   std::string file, save;
   int level = -1;
   double memory = 0; // MiB, 0: automatic
-  bool mean = false, serial = false, inPieces = false, builtInPieces = false;
+  bool mean = false, serial = false, inPieces = false, builtInPieces = false, compact = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -191,6 +192,8 @@ int main(int argc, char* argv[])
       serial = true;
     else if (a == "--pieces")
       inPieces = true;
+    else if (a == "--compact")
+      compact = true;
     else if (a == "--save" && i + 1 < argc)
       save = argv[++i];
     else if (a == "--memory" && i + 1 < argc)
@@ -206,7 +209,7 @@ int main(int argc, char* argv[])
     else if (a == "-h" || a == "--help")
     {
       std::printf("usage: %s [model.ply|.stl|.obj|.vtp|.plod] [--level N] [--mean] [--serial] "
-                  "[--memory SIZE] [--save octree.plod] [--pieces]\n",
+                  "[--memory SIZE] [--save octree.plod] [--pieces] [--compact]\n",
         argv[0]);
       return 0;
     }
@@ -228,7 +231,10 @@ int main(int argc, char* argv[])
       return 1;
     }
     std::printf("octree file: %s, opened in %.2f ms (%s)\n", file.c_str(),
-      reader->GetReadTime() * 1e3, reader->GetMapped() ? "mapped" : "read into memory");
+      reader->GetReadTime() * 1e3,
+      reader->GetCompact()    ? "compact, decoded into memory"
+        : reader->GetMapped() ? "mapped"
+                              : "read into memory");
   }
   else
   {
@@ -283,6 +289,7 @@ int main(int argc, char* argv[])
         PrintPiecesEstimate(header, save, builder->GetEffectiveMemoryLimit());
         builder->SetOctreeFileName(save.c_str());
         builder->SetBuildInPieces(inPieces);
+        builder->SetCompactOctreeFile(compact);
         builtInPieces = true;
       }
       else if (!fits)
@@ -372,6 +379,7 @@ int main(int argc, char* argv[])
     vtkNew<vtkMultiscaleOctreeWriter> writer;
     writer->SetInputData(octree);
     writer->SetFileName(save.c_str());
+    writer->SetCompact(compact);
     if (!writer->Write())
     {
       std::fprintf(stderr, "cannot save the octree: %s\n", writer->GetErrorMessage());

@@ -15,17 +15,26 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <zstd.h>
+
 namespace plod
 {
 namespace
 {
 constexpr char Magic[8] = { 'P', 'L', 'O', 'D', 'O', 'C', 'T', '\n' };
-constexpr uint32_t Version = 1;
+constexpr uint32_t MappedVersion = 1;  // every array stored as it is
+constexpr uint32_t CompactVersion = 2; // arrays may be compressed in blocks
+constexpr uint8_t EncodingRaw = 0;
+constexpr uint8_t EncodingBlocks = 1;
+constexpr uint32_t BlockTuples = 1u << 16; // tuples per compressed block
+constexpr int CompressionLevel = 3;        // zstd's default: about 300 MB/s per core here
+constexpr size_t BlocksPerBatch = 16;      // blocks compressed at once (in parallel)
 constexpr uint32_t ByteOrderMark = 0x01020304u;
 constexpr size_t HeaderBytes = 128;
 constexpr size_t EntryBytes = 64;
 constexpr size_t NameBytes = 32;
-constexpr uint64_t Alignment = 4096;
+constexpr uint64_t Alignment = 4096;     // of an array stored as it is (mapped in place)
+constexpr uint64_t BlocksAlignment = 8;  // of a compressed array (never mapped in place)
 constexpr uint32_t MaxArrays = 256;
 constexpr uint64_t FnvOffset = 14695981039346656037ull;
 constexpr uint64_t FnvPrime = 1099511628211ull;
@@ -65,9 +74,9 @@ T Get(const unsigned char* at)
   return value;
 }
 
-uint64_t AlignUp(uint64_t x)
+uint64_t AlignUp(uint64_t x, uint64_t alignment = Alignment)
 {
-  return (x + Alignment - 1) / Alignment * Alignment;
+  return (x + alignment - 1) / alignment * alignment;
 }
 
 /// Swaps the bytes of each `size`-byte value in place.
@@ -217,10 +226,41 @@ uint64_t ContinueChecksum(uint64_t h, const void* data, size_t bytes)
   return h;
 }
 
-/// Bytes of an array's data in the file.
+/// Bytes of an array's values (as stored by the mapped layout).
 uint64_t DataBytes(const FileArray& f)
 {
   return uint64_t(f.Tuples) * uint64_t(f.Components) * uint64_t(FileTypeSize(f.Type));
+}
+
+/// Values [first, first + count) of `f` (counted in values, not tuples), little-endian, into
+/// `out`: copied from Data, or made by Values at most 1 MiB at a time. False with `why`.
+bool GatherValues(
+  const FileArray& f, uint64_t first, uint64_t count, unsigned char* out, std::string* why)
+{
+  const uint64_t size = uint64_t(FileTypeSize(f.Type));
+  if (f.Data)
+  {
+    std::memcpy(out, static_cast<const unsigned char*>(f.Data) + first * size, count * size);
+  }
+  else
+  {
+    const uint64_t perCall = std::max<uint64_t>(1, (uint64_t(1) << 20) / size);
+    for (uint64_t done = 0; done < count; done += perCall)
+    {
+      const uint64_t n = std::min(perCall, count - done);
+      if (!f.Values(
+            static_cast<int64_t>(first + done), static_cast<int64_t>(n), out + done * size, why))
+      {
+        *why = "cannot make the array '" + f.Name + "': " + *why;
+        return false;
+      }
+    }
+  }
+  if (!HostIsLittleEndian())
+  {
+    SwapValues(out, count * size, static_cast<int>(size));
+  }
+  return true;
 }
 
 /// Calls body(bytes, n) over the array's data in file order (little-endian): in place when it
@@ -232,10 +272,9 @@ bool ForEachChunk(const FileArray& f, std::string* why,
 {
   const int size = FileTypeSize(f.Type);
   const uint64_t bytes = DataBytes(f);
-  const unsigned char* data = static_cast<const unsigned char*>(f.Data);
-  if (data && (HostIsLittleEndian() || size == 1))
+  if (f.Data && (HostIsLittleEndian() || size == 1))
   {
-    return body(data, static_cast<size_t>(bytes));
+    return body(static_cast<const unsigned char*>(f.Data), static_cast<size_t>(bytes));
   }
   const uint64_t valuesPerChunk = (uint64_t(1) << 20) / 8 / uint64_t(size) * 8;
   std::vector<unsigned char> chunk;
@@ -244,20 +283,7 @@ bool ForEachChunk(const FileArray& f, std::string* why,
   {
     const uint64_t n = std::min(valuesPerChunk, values - first);
     chunk.resize(static_cast<size_t>(n * uint64_t(size)));
-    if (data)
-    {
-      std::memcpy(chunk.data(), data + first * uint64_t(size), chunk.size());
-    }
-    else if (!f.Values(static_cast<int64_t>(first), static_cast<int64_t>(n), chunk.data(), why))
-    {
-      *why = "cannot make the array '" + f.Name + "': " + *why;
-      return false;
-    }
-    if (!HostIsLittleEndian())
-    {
-      SwapValues(chunk.data(), chunk.size(), size);
-    }
-    if (!body(chunk.data(), chunk.size()))
+    if (!GatherValues(f, first, n, chunk.data(), why) || !body(chunk.data(), chunk.size()))
     {
       return false;
     }
@@ -265,11 +291,164 @@ bool ForEachChunk(const FileArray& f, std::string* why,
   return true;
 }
 
-/// The header and directory of a file holding `arrays`, each array's offset, and the file's
-/// size; false with `error` when an array cannot be written.
-bool EncodeHeader(const OctreeFileHeader& header, const std::vector<FileArray>& arrays,
-  std::vector<unsigned char>& head, std::vector<uint64_t>& offset, uint64_t& fileSize,
-  std::string* error)
+/// FileChecksum over bytes that arrive in parts of any length.
+class Checksummer
+{
+public:
+  void Add(const unsigned char* p, size_t n)
+  {
+    while (n > 0 && this->Pending > 0)
+    {
+      this->Word[this->Pending++] = *p++;
+      --n;
+      if (this->Pending == 8)
+      {
+        this->Sum = ContinueChecksum(this->Sum, this->Word, 8);
+        this->Pending = 0;
+      }
+    }
+    const size_t whole = n / 8 * 8;
+    this->Sum = ContinueChecksum(this->Sum, p, whole);
+    for (size_t i = whole; i < n; ++i)
+    {
+      this->Word[this->Pending++] = p[i];
+    }
+  }
+  uint64_t Finish() const { return ContinueChecksum(this->Sum, this->Word, this->Pending); }
+
+private:
+  uint64_t Sum = FnvOffset;
+  unsigned char Word[8] = {};
+  size_t Pending = 0;
+};
+
+/// The zigzag map: 0, -1, 1, -2, ... to 0, 1, 2, 3, ... (on the unsigned difference).
+template <typename U>
+U Zigzag(U d)
+{
+  using S = std::make_signed_t<U>;
+  return static_cast<U>(
+    static_cast<U>(d << 1) ^ static_cast<U>(static_cast<S>(d) >> (8 * sizeof(U) - 1)));
+}
+
+template <typename U>
+U Unzigzag(U z)
+{
+  return static_cast<U>(static_cast<U>(z >> 1) ^ static_cast<U>(0 - (z & 1)));
+}
+
+/// A block's transform (see the header): `tuples` tuples of `components` little-endian values
+/// of type U from `in` become their zigzag differences, byte planes in `out`.
+template <typename U>
+void ToPlanes(const unsigned char* in, size_t tuples, int components, unsigned char* out)
+{
+  const size_t n = tuples * size_t(components), back = size_t(components);
+  for (size_t i = 0; i < n; ++i)
+  {
+    const U previous = i >= back ? Get<U>(in + (i - back) * sizeof(U)) : U(0);
+    const U z = Zigzag<U>(static_cast<U>(Get<U>(in + i * sizeof(U)) - previous));
+    for (size_t b = 0; b < sizeof(U); ++b)
+    {
+      out[b * n + i] = static_cast<unsigned char>(z >> (8 * b));
+    }
+  }
+}
+
+/// The inverse of ToPlanes, into values in the host's byte order.
+template <typename U>
+void FromPlanes(const unsigned char* in, size_t tuples, int components, unsigned char* out)
+{
+  const size_t n = tuples * size_t(components), back = size_t(components);
+  for (size_t i = 0; i < n; ++i)
+  {
+    U z = 0;
+    for (size_t b = 0; b < sizeof(U); ++b)
+    {
+      z = static_cast<U>(z | static_cast<U>(static_cast<U>(in[b * n + i]) << (8 * b)));
+    }
+    U previous = 0;
+    if (i >= back)
+    {
+      std::memcpy(&previous, out + (i - back) * sizeof(U), sizeof(U));
+    }
+    const U value = static_cast<U>(Unzigzag<U>(z) + previous);
+    std::memcpy(out + i * sizeof(U), &value, sizeof(U));
+  }
+}
+
+/// ToPlanes or FromPlanes for values of `size` bytes.
+void Transform(bool forward, int size, const unsigned char* in, size_t tuples, int components,
+  unsigned char* out)
+{
+  switch (size)
+  {
+    case 1:
+      forward ? ToPlanes<uint8_t>(in, tuples, components, out)
+              : FromPlanes<uint8_t>(in, tuples, components, out);
+      break;
+    case 4:
+      forward ? ToPlanes<uint32_t>(in, tuples, components, out)
+              : FromPlanes<uint32_t>(in, tuples, components, out);
+      break;
+    default:
+      forward ? ToPlanes<uint64_t>(in, tuples, components, out)
+              : FromPlanes<uint64_t>(in, tuples, components, out);
+      break;
+  }
+}
+
+/// Compresses one block of `tuples` tuples (little-endian values at `raw`) into `out`; false
+/// with `why` when zstd fails.
+bool CompressBlock(const FileArray& f, const unsigned char* raw, size_t tuples,
+  std::vector<unsigned char>& out, std::string* why)
+{
+  const int size = FileTypeSize(f.Type);
+  const size_t bytes = tuples * size_t(f.Components) * size_t(size);
+  std::vector<unsigned char> planes(bytes);
+  Transform(true, size, raw, tuples, f.Components, planes.data());
+  out.resize(ZSTD_compressBound(bytes));
+  const size_t n = ZSTD_compress(out.data(), out.size(), planes.data(), bytes, CompressionLevel);
+  if (ZSTD_isError(n))
+  {
+    *why = std::string("compressing the array '") + f.Name + "' failed: " + ZSTD_getErrorName(n);
+    return false;
+  }
+  out.resize(n);
+  return true;
+}
+
+/// Decompresses one block of `tuples` tuples into host-order values at `out`; "" or what is
+/// wrong with the block.
+std::string DecompressBlock(const FileArray& f, const unsigned char* stored, size_t storedBytes,
+  size_t tuples, unsigned char* out)
+{
+  const int size = FileTypeSize(f.Type);
+  const size_t bytes = tuples * size_t(f.Components) * size_t(size);
+  std::vector<unsigned char> planes(bytes);
+  const size_t n = ZSTD_decompress(planes.data(), bytes, stored, storedBytes);
+  if (ZSTD_isError(n))
+  {
+    return ZSTD_getErrorName(n);
+  }
+  if (n != bytes)
+  {
+    return std::to_string(n) + " bytes where its tuples take " + std::to_string(bytes);
+  }
+  Transform(false, size, planes.data(), tuples, f.Components, out);
+  return std::string();
+}
+
+/// Where each array lies in the file being written, and how.
+struct PlacedArray
+{
+  uint64_t Offset = 0; // 0 for no data
+  uint64_t Checksum = FnvOffset;
+  uint8_t Encoding = EncodingRaw;
+};
+
+/// False with `error` when `header` or one of `arrays` cannot be written.
+bool CheckWritable(
+  const OctreeFileHeader& header, const std::vector<FileArray>& arrays, std::string* error)
 {
   if (arrays.size() > MaxArrays)
   {
@@ -281,50 +460,41 @@ bool EncodeHeader(const OctreeFileHeader& header, const std::vector<FileArray>& 
       "the coarsest drawn level " + std::to_string(header.CoarsestDrawnLevel) +
         " is not in [0, the finest level " + std::to_string(header.FinestLevel) + "]");
   }
-  const size_t headerSize = HeaderBytes + EntryBytes * arrays.size();
-  head.assign(headerSize, 0);
-  offset.assign(arrays.size(), 0);
-  uint64_t end = AlignUp(headerSize);
   for (size_t a = 0; a < arrays.size(); ++a)
   {
     const FileArray& f = arrays[a];
-    const int size = FileTypeSize(f.Type);
-    if (f.Name.empty() || f.Name.size() >= NameBytes || size == 0 || f.Components < 1 ||
-      f.Components > 65535 || f.Tuples < 0 || (f.Tuples > 0 && !f.Data && !f.Values))
+    if (f.Name.empty() || f.Name.size() >= NameBytes || FileTypeSize(f.Type) == 0 ||
+      f.Components < 1 || f.Components > 65535 || f.Tuples < 0 ||
+      (f.Tuples > 0 && !f.Data && !f.Values))
     {
       return Fail(error, "array " + std::to_string(a) + " ('" + f.Name + "') cannot be written");
     }
-    const uint64_t bytes = uint64_t(f.Tuples) * uint64_t(f.Components) * uint64_t(size);
-    offset[a] = bytes > 0 ? end : 0; // an empty array has no place in the file
-    end = bytes > 0 ? AlignUp(end + bytes) : end;
+  }
+  return true;
+}
+
+/// The header and directory of a file of `fileSize` bytes holding `arrays` as `placed`.
+std::vector<unsigned char> EncodeHeader(const OctreeFileHeader& header,
+  const std::vector<FileArray>& arrays, const std::vector<PlacedArray>& placed, uint32_t version,
+  uint64_t fileSize)
+{
+  const size_t headerSize = HeaderBytes + EntryBytes * arrays.size();
+  std::vector<unsigned char> head(headerSize, 0);
+  for (size_t a = 0; a < arrays.size(); ++a)
+  {
+    const FileArray& f = arrays[a];
     unsigned char* e = head.data() + HeaderBytes + EntryBytes * a;
     std::memcpy(e, f.Name.data(), f.Name.size());
     e[32] = static_cast<unsigned char>(f.Group);
     e[33] = static_cast<unsigned char>(f.Type);
     Put<uint16_t>(e + 34, static_cast<uint16_t>(f.Components));
+    e[36] = placed[a].Encoding;
     Put<int64_t>(e + 40, f.Tuples);
-    Put<uint64_t>(e + 48, offset[a]);
-    uint64_t sum = FnvOffset;
-    std::string why;
-    if (!ForEachChunk(f, &why, [&sum](const unsigned char* p, size_t n) {
-          sum = ContinueChecksum(sum, p, n);
-          return true;
-        }))
-    {
-      return Fail(error, why);
-    }
-    Put<uint64_t>(e + 56, sum);
-  }
-  // the file ends with the last array (no padding after it)
-  fileSize = AlignUp(headerSize);
-  for (size_t a = 0; a < arrays.size(); ++a)
-  {
-    const uint64_t bytes = uint64_t(arrays[a].Tuples) * uint64_t(arrays[a].Components) *
-      uint64_t(FileTypeSize(arrays[a].Type));
-    fileSize = std::max(fileSize, offset[a] + bytes);
+    Put<uint64_t>(e + 48, placed[a].Offset);
+    Put<uint64_t>(e + 56, placed[a].Checksum);
   }
   std::memcpy(head.data(), Magic, 8);
-  Put<uint32_t>(head.data() + 8, Version);
+  Put<uint32_t>(head.data() + 8, version);
   Put<uint32_t>(head.data() + 12, ByteOrderMark);
   Put<uint32_t>(head.data() + 16, static_cast<uint32_t>(headerSize));
   Put<uint32_t>(head.data() + 20, static_cast<uint32_t>(arrays.size()));
@@ -347,7 +517,7 @@ bool EncodeHeader(const OctreeFileHeader& header, const std::vector<FileArray>& 
     static_cast<uint32_t>(std::min<int64_t>(
       std::max<int64_t>(header.MisorientedEdges, 0), std::numeric_limits<uint32_t>::max())));
   Put<uint32_t>(head.data() + 120, HeaderChecksum(head.data(), headerSize));
-  return true;
+  return head;
 }
 
 /// What kind of file `mode` describes, for messages.
@@ -474,40 +644,161 @@ bool WriteAll(int fd, const void* data, uint64_t bytes)
   return true;
 }
 
-/// Writes the header and every array at its offset to `fd` (little-endian).
-bool WriteContents(int fd, const std::vector<unsigned char>& head,
-  const std::vector<FileArray>& arrays, const std::vector<uint64_t>& offset)
+/// Writes all `bytes` at `data` to `fd` at `offset`; false (errno set) on a short or failed
+/// write.
+bool WriteAllAt(int fd, const void* data, uint64_t bytes, uint64_t offset)
 {
-  if (!WriteAll(fd, head.data(), head.size()))
+  return ::lseek(fd, static_cast<off_t>(offset), SEEK_SET) >= 0 && WriteAll(fd, data, bytes) &&
+    ::lseek(fd, 0, SEEK_END) >= 0;
+}
+
+/// Writes array `f` compressed in blocks from the file's position `at` (its offset) on, and
+/// fills `placed` with its checksum; `at` becomes the end. False with `why` (errno set).
+bool WriteBlocks(int fd, const FileArray& f, const ParallelFor& parallel, uint64_t& at,
+  PlacedArray& placed, std::string* why)
+{
+  const int size = FileTypeSize(f.Type);
+  const uint64_t tupleBytes = uint64_t(f.Components) * uint64_t(size);
+  const uint64_t tuples = uint64_t(f.Tuples);
+  const uint64_t blocks = (tuples + BlockTuples - 1) / BlockTuples;
+  // the table is written last, when the blocks' sizes are known
+  std::vector<unsigned char> table(8 + 4 * blocks, 0);
+  Put<uint32_t>(table.data(), BlockTuples);
+  Put<uint32_t>(table.data() + 4, static_cast<uint32_t>(blocks));
+  const uint64_t tableAt = at;
+  if (!WriteAll(fd, table.data(), table.size()))
   {
+    *why = std::string("write: ") + std::strerror(errno);
     return false;
   }
-  uint64_t at = head.size();
+  at += table.size();
+  Checksummer sum;
+  std::vector<std::vector<unsigned char>> raw(BlocksPerBatch), stored(BlocksPerBatch);
+  std::vector<std::string> failed(BlocksPerBatch);
+  for (uint64_t first = 0; first < blocks; first += BlocksPerBatch)
+  {
+    const size_t batch = static_cast<size_t>(std::min<uint64_t>(BlocksPerBatch, blocks - first));
+    auto tuplesOf = [&](size_t k) {
+      const uint64_t begin = (first + k) * BlockTuples;
+      return std::min<uint64_t>(BlockTuples, tuples - begin);
+    };
+    for (size_t k = 0; k < batch; ++k) // Values are called in order, on this thread
+    {
+      raw[k].resize(static_cast<size_t>(tuplesOf(k) * tupleBytes));
+      if (!GatherValues(f, (first + k) * BlockTuples * uint64_t(f.Components),
+            tuplesOf(k) * uint64_t(f.Components), raw[k].data(), why))
+      {
+        errno = EIO;
+        return false;
+      }
+    }
+    parallel(static_cast<int64_t>(batch), 1, [&](int64_t b, int64_t e) {
+      for (int64_t k = b; k < e; ++k)
+      {
+        failed[k].clear();
+        CompressBlock(f, raw[k].data(), static_cast<size_t>(tuplesOf(k)), stored[k], &failed[k]);
+      }
+    });
+    for (size_t k = 0; k < batch; ++k)
+    {
+      if (!failed[k].empty())
+      {
+        *why = failed[k];
+        errno = EIO;
+        return false;
+      }
+      if (!WriteAll(fd, stored[k].data(), stored[k].size()))
+      {
+        *why = std::string("write: ") + std::strerror(errno);
+        return false;
+      }
+      sum.Add(stored[k].data(), stored[k].size());
+      Put<uint32_t>(table.data() + 8 + 4 * (first + k), static_cast<uint32_t>(stored[k].size()));
+      at += stored[k].size();
+    }
+  }
+  if (!WriteAllAt(fd, table.data(), table.size(), tableAt))
+  {
+    *why = std::string("write: ") + std::strerror(errno);
+    return false;
+  }
+  sum.Add(table.data(), table.size());
+  placed.Checksum = sum.Finish();
+  placed.Encoding = EncodingBlocks;
+  return true;
+}
+
+/// Writes array `f` as it is from the file's position `at` on, and fills `placed` with its
+/// checksum; `at` becomes the end. False with `why` (errno set).
+bool WriteAsItIs(int fd, const FileArray& f, uint64_t& at, PlacedArray& placed, std::string* why)
+{
+  uint64_t sum = FnvOffset;
+  if (!ForEachChunk(f, why, [&](const unsigned char* p, size_t n) {
+        sum = ContinueChecksum(sum, p, n);
+        if (!WriteAll(fd, p, n))
+        {
+          *why = std::string("write: ") + std::strerror(errno);
+          return false;
+        }
+        at += n;
+        return true;
+      }))
+  {
+    errno = errno ? errno : EIO;
+    return false;
+  }
+  placed.Checksum = sum;
+  return true;
+}
+
+/// Writes the file: the arrays one after the other, each from a page boundary, then the header
+/// and directory at the start (they hold the arrays' checksums); `fileSize` receives the size.
+/// False with `why` (errno set).
+bool WriteContents(int fd, const OctreeFileHeader& header, const std::vector<FileArray>& arrays,
+  const FileWriteOptions& options, uint64_t& fileSize, std::string* why)
+{
+  const bool compact = options.Layout == FileLayout::Compact;
+  const ParallelFor parallel = options.Parallel ? options.Parallel : ParallelFor(SerialFor);
+  const uint64_t headerSize = HeaderBytes + EntryBytes * arrays.size();
   const std::vector<unsigned char> zeros(Alignment, 0);
+  std::vector<PlacedArray> placed(arrays.size());
+  // the header's place, written last; the file ends with the last array's data
+  const uint64_t alignment = compact ? BlocksAlignment : Alignment;
+  uint64_t at = AlignUp(headerSize, alignment);
+  if (!WriteAll(fd, zeros.data(), at))
+  {
+    *why = std::string("write: ") + std::strerror(errno);
+    return false;
+  }
   for (size_t a = 0; a < arrays.size(); ++a)
   {
     const FileArray& f = arrays[a];
-    const int size = FileTypeSize(f.Type);
-    const uint64_t bytes = uint64_t(f.Tuples) * uint64_t(f.Components) * uint64_t(size);
-    if (bytes == 0)
+    if (DataBytes(f) == 0)
     {
-      continue;
+      continue; // an empty array has no place in the file
     }
-    if (!WriteAll(fd, zeros.data(), offset[a] - at))
+    if (!WriteAll(fd, zeros.data(), AlignUp(at, alignment) - at))
+    {
+      *why = std::string("write: ") + std::strerror(errno);
+      return false;
+    }
+    at = AlignUp(at, alignment);
+    placed[a].Offset = at;
+    if (!(compact ? WriteBlocks(fd, f, parallel, at, placed[a], why)
+                  : WriteAsItIs(fd, f, at, placed[a], why)))
     {
       return false;
     }
-    std::string why;
-    if (!ForEachChunk(
-          f, &why, [fd](const unsigned char* p, size_t n) { return WriteAll(fd, p, n); }))
-    {
-      errno = why.empty() ? errno : EIO; // the array's Values failed (they did not before)
-      return false;
-    }
-    at = offset[a] + bytes;
   }
-  const uint64_t headerEnd = AlignUp(head.size());
-  return at >= headerEnd || WriteAll(fd, zeros.data(), headerEnd - at);
+  fileSize = at;
+  const std::vector<unsigned char> head =
+    EncodeHeader(header, arrays, placed, compact ? CompactVersion : MappedVersion, fileSize);
+  if (!WriteAllAt(fd, head.data(), head.size(), 0))
+  {
+    *why = std::string("write: ") + std::strerror(errno);
+    return false;
+  }
+  return true;
 }
 
 /// Syncs the directory `dir`, so that a rename in it survives a crash (best effort: some
@@ -531,8 +822,12 @@ uint64_t FileChecksum(const void* data, size_t bytes)
 bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
   const std::vector<FileArray>& arrays, std::string* error)
 {
-  std::vector<unsigned char> head;
-  std::vector<uint64_t> offset;
+  return WriteOctreeFile(path, header, arrays, FileWriteOptions(), error);
+}
+
+bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
+  const std::vector<FileArray>& arrays, const FileWriteOptions& options, std::string* error)
+{
   uint64_t fileSize = 0;
   std::string target, temporary;
   bool existing = false;
@@ -541,7 +836,7 @@ bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
   {
     return Fail(error, "no file name to write the octree to");
   }
-  if (!EncodeHeader(header, arrays, head, offset, fileSize, error) ||
+  if (!CheckWritable(header, arrays, error) ||
     !ResolveWriteTarget(path, target, existing, mode, error))
   {
     return false; // nothing written
@@ -552,51 +847,43 @@ bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
     return false;
   }
   // from here on, a failure removes the temporary file and nothing else
-  auto abandon = [&](const std::string& what) {
-    const std::string reason = what + ": " + std::strerror(errno);
+  auto abandon = [&](const std::string& reason) {
     ::unlink(temporary.c_str());
     return Fail(error,
       "writing '" + path + "' failed (" + reason + "); " +
         (existing ? "the existing file is unchanged" : "no file was made"));
   };
-  bool ok = WriteContents(fd, head, arrays, offset);
-  const char* step = "write";
+  std::string why;
+  bool ok = WriteContents(fd, header, arrays, options, fileSize, &why);
   if (ok && existing && ::fchmod(fd, mode) != 0)
   {
     ok = false;
-    step = "setting the permissions";
+    why = std::string("setting the permissions: ") + std::strerror(errno);
   }
   if (ok && ::fsync(fd) != 0)
   {
     ok = false;
-    step = "sync";
+    why = std::string("sync: ") + std::strerror(errno);
   }
-  const int savedErrno = errno;
   if (::close(fd) != 0 && ok)
   {
     ok = false;
-    step = "close";
-  }
-  else
-  {
-    errno = savedErrno;
+    why = std::string("close: ") + std::strerror(errno);
   }
   if (!ok)
   {
-    return abandon(step);
+    return abandon(why);
   }
   OctreeFile check;
-  std::string why;
-  if (!OpenOctreeFile(temporary, true, true, check, &why) ||
+  if (!OpenOctreeFile(temporary, true, true, check, &why, options.Parallel) ||
     check.Identity.Size != static_cast<int64_t>(fileSize))
   {
-    errno = EIO;
-    return abandon("the written file does not read back (" + why + ")");
+    return abandon("the written file does not read back: " + why);
   }
   check = OctreeFile();
   if (::rename(temporary.c_str(), target.c_str()) != 0)
   {
-    return abandon("rename over the target");
+    return abandon(std::string("rename over the target: ") + std::strerror(errno));
   }
   SyncDirectory(DirectoryOf(target));
   return true;
@@ -694,18 +981,19 @@ std::shared_ptr<void> LoadBytes(int fd, uint64_t size, bool mapFile, bool& mappe
 /// The header of the `size` bytes: magic, version, byte order, directory size, checksum, the
 /// stated size, then the root cube and the counts into `h`; `count` receives the number of
 /// arrays. "" or what is wrong.
-std::string ReadHeader(
-  const unsigned char* bytes, uint64_t size, OctreeFileHeader& h, uint32_t& count)
+std::string ReadHeader(const unsigned char* bytes, uint64_t size, OctreeFileHeader& h,
+  uint32_t& count, uint32_t& version)
 {
   if (std::memcmp(bytes, Magic, 8) != 0)
   {
     return "not an octree file (it does not start with PLODOCT)";
   }
-  const uint32_t version = Get<uint32_t>(bytes + 8);
-  if (version != Version)
+  version = Get<uint32_t>(bytes + 8);
+  if (version != MappedVersion && version != CompactVersion)
   {
     return "octree file format version " + std::to_string(version) +
-      "; this reader knows version " + std::to_string(Version);
+      "; this reader knows versions " + std::to_string(MappedVersion) + " and " +
+      std::to_string(CompactVersion) + " (a newer PerceptualLOD wrote it?)";
   }
   if (Get<uint32_t>(bytes + 12) != ByteOrderMark)
   {
@@ -756,13 +1044,74 @@ std::string ReadHeader(
   return std::string();
 }
 
+/// A compressed array's blocks, as its table gives them.
+struct StoredBlocks
+{
+  const unsigned char* Table = nullptr; // tuples per block, count, sizes
+  const unsigned char* First = nullptr; // the first block
+  uint64_t TuplesPerBlock = 0;
+  uint64_t Count = 0;
+  std::vector<uint64_t> Start; // each block's offset from First, and the end
+};
+
+/// The blocks of the compressed array `f` stored at `offset`, checked against its tuples and
+/// the file's size; "" or what is wrong. `extent` receives the bytes they span.
+std::string LocateBlocks(const unsigned char* bytes, uint64_t size, uint64_t offset,
+  const FileArray& f, StoredBlocks& blocks, std::pair<uint64_t, uint64_t>& extent)
+{
+  const uint64_t room = size - offset;
+  if (room < 8)
+  {
+    return "its block table lies outside the file";
+  }
+  blocks.Table = bytes + offset;
+  blocks.TuplesPerBlock = Get<uint32_t>(blocks.Table);
+  blocks.Count = Get<uint32_t>(blocks.Table + 4);
+  if (blocks.TuplesPerBlock == 0 ||
+    blocks.Count != (uint64_t(f.Tuples) + blocks.TuplesPerBlock - 1) / blocks.TuplesPerBlock)
+  {
+    return "its block table does not fit its " + std::to_string(f.Tuples) + " tuples (" +
+      std::to_string(blocks.Count) + " blocks of " + std::to_string(blocks.TuplesPerBlock) + ")";
+  }
+  const uint64_t tableBytes = 8 + 4 * blocks.Count;
+  if (tableBytes > room)
+  {
+    return "its block table lies outside the file";
+  }
+  blocks.First = blocks.Table + tableBytes;
+  blocks.Start.assign(1, 0);
+  for (uint64_t k = 0; k < blocks.Count; ++k)
+  {
+    blocks.Start.push_back(blocks.Start.back() + Get<uint32_t>(blocks.Table + 8 + 4 * k));
+  }
+  if (blocks.Start.back() > room - tableBytes)
+  {
+    return "its blocks lie outside the file (" + std::to_string(blocks.Start.back()) +
+      " bytes from offset " + std::to_string(offset + tableBytes) + ", file of " +
+      std::to_string(size) + ")";
+  }
+  extent = { offset, offset + tableBytes + blocks.Start.back() };
+  return std::string();
+}
+
+/// The checksum of a compressed array: its blocks, then its table.
+uint64_t BlocksChecksum(const StoredBlocks& blocks)
+{
+  Checksummer sum;
+  sum.Add(blocks.First, static_cast<size_t>(blocks.Start.back()));
+  sum.Add(blocks.Table, static_cast<size_t>(8 + 4 * blocks.Count));
+  return sum.Finish();
+}
+
 /// Array `a` of the directory: its entry checked against the header's counts and the file's
 /// size, its values brought to the host's byte order, their checksum verified when asked (a
 /// mapped file's pages let go once checked, so that verifying a file larger than memory does not
-/// hold it); `extent` receives the bytes it spans (empty for no values). "" or what is wrong.
+/// hold it); `extent` receives the bytes it spans (empty for no values). A compressed array
+/// (`blocks` filled, Data left null: OpenOctreeFile decodes it) has its table checked and its
+/// checksum verified always. "" or what is wrong.
 std::string ReadArray(unsigned char* bytes, uint64_t size, const OctreeFileHeader& h,
-  uint32_t count, uint32_t a, bool verifyChecksums, bool mapped, FileArray& f,
-  std::pair<uint64_t, uint64_t>& extent)
+  uint32_t count, uint32_t version, uint32_t a, bool verifyChecksums, bool mapped, FileArray& f,
+  StoredBlocks& blocks, std::pair<uint64_t, uint64_t>& extent)
 {
   const uint32_t headerSize = HeaderBytes + EntryBytes * count;
   const unsigned char* e = bytes + HeaderBytes + EntryBytes * a;
@@ -791,10 +1140,32 @@ std::string ReadArray(unsigned char* bytes, uint64_t size, const OctreeFileHeade
   }
   const uint64_t length =
     uint64_t(f.Tuples) * uint64_t(f.Components) * uint64_t(FileTypeSize(f.Type));
+  const uint8_t encoding = version == MappedVersion ? EncodingRaw : e[36];
   extent = { offset, offset };
+  if (encoding != EncodingRaw && encoding != EncodingBlocks)
+  {
+    return at + "'" + f.Name + "' has an unknown encoding (" + std::to_string(encoding) + ")";
+  }
   if (length == 0)
   {
     return std::string();
+  }
+  if (encoding == EncodingBlocks)
+  {
+    std::string why;
+    if (offset % BlocksAlignment != 0 || offset < headerSize || offset > size)
+    {
+      why = "lies outside the file (offset " + std::to_string(offset) + ")";
+    }
+    else
+    {
+      why = LocateBlocks(bytes, size, offset, f, blocks, extent);
+    }
+    if (why.empty() && BlocksChecksum(blocks) != f.Checksum)
+    {
+      why = "is corrupt (checksum mismatch)";
+    }
+    return why.empty() ? why : at + "'" + f.Name + "' " + why;
   }
   if (offset % Alignment != 0 || offset < headerSize || offset > size || length > size - offset)
   {
@@ -837,10 +1208,86 @@ std::string ReadArray(unsigned char* bytes, uint64_t size, const OctreeFileHeade
   }
   return std::string();
 }
-}
 
-bool OpenOctreeFile(
-  const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out, std::string* error)
+/// The memory of an opened file: its map (or buffer), while an array stays in it, and the
+/// decoded arrays.
+struct OpenedMemory
+{
+  std::shared_ptr<void> File;
+  std::vector<std::unique_ptr<unsigned char[]>> Decoded;
+};
+
+/// Decodes the compressed arrays of `out` (those with `blocks`) into memory of their own and
+/// sets out.Memory, out.Mapped and out.Compact; `file` is the file's memory. "" or what is
+/// wrong with which block.
+std::string DecodeBlocks(OctreeFile& out, const std::vector<StoredBlocks>& blocks,
+  const std::shared_ptr<void>& file, const ParallelFor& parallel)
+{
+  auto opened = std::make_shared<OpenedMemory>();
+  struct Job
+  {
+    size_t Array;
+    uint64_t Block;
+  };
+  std::vector<Job> jobs;
+  bool inFile = false;
+  for (size_t a = 0; a < out.Arrays.size(); ++a)
+  {
+    FileArray& f = out.Arrays[a];
+    if (!blocks[a].Table)
+    {
+      inFile = inFile || f.Data;
+      continue;
+    }
+    const uint64_t bytes = DataBytes(f);
+    opened->Decoded.emplace_back(new (std::nothrow) unsigned char[bytes]);
+    if (!opened->Decoded.back())
+    {
+      return "not enough memory to decode the array '" + f.Name + "' (" + std::to_string(bytes) +
+        " bytes)";
+    }
+    f.Data = opened->Decoded.back().get();
+    for (uint64_t k = 0; k < blocks[a].Count; ++k)
+    {
+      jobs.push_back({ a, k });
+    }
+  }
+  std::vector<std::string> failed(jobs.size());
+  parallel(static_cast<int64_t>(jobs.size()), 1, [&](int64_t b, int64_t e) {
+    for (int64_t j = b; j < e; ++j)
+    {
+      const FileArray& f = out.Arrays[jobs[j].Array];
+      const StoredBlocks& s = blocks[jobs[j].Array];
+      const uint64_t k = jobs[j].Block;
+      const uint64_t first = k * s.TuplesPerBlock;
+      const uint64_t tuples = std::min<uint64_t>(s.TuplesPerBlock, uint64_t(f.Tuples) - first);
+      const uint64_t tupleBytes = uint64_t(f.Components) * uint64_t(FileTypeSize(f.Type));
+      failed[j] = DecompressBlock(f, s.First + s.Start[k], s.Start[k + 1] - s.Start[k],
+        static_cast<size_t>(tuples),
+        static_cast<unsigned char*>(const_cast<void*>(f.Data)) + first * tupleBytes);
+    }
+  });
+  for (size_t j = 0; j < jobs.size(); ++j)
+  {
+    if (!failed[j].empty())
+    {
+      return "array " + std::to_string(jobs[j].Array) + ": '" + out.Arrays[jobs[j].Array].Name +
+        "' is corrupt (block " + std::to_string(jobs[j].Block) + ": " + failed[j] + ")";
+    }
+  }
+  out.Compact = !jobs.empty();
+  out.Mapped = out.Mapped && inFile;
+  if (inFile)
+  {
+    opened->File = file; // an array stays in the file's memory
+  }
+  out.Memory = opened;
+  return std::string();
+}
+} // namespace
+
+bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out,
+  std::string* error, const ParallelFor& parallel)
 {
   out = OctreeFile();
   const std::string where = path + ": ";
@@ -876,21 +1323,24 @@ bool OpenOctreeFile(
     return Fail(error, where + why);
   }
   unsigned char* bytes = static_cast<unsigned char*>(memory.get());
-  uint32_t count = 0;
-  why = ReadHeader(bytes, size, out.Header, count);
+  uint32_t count = 0, version = 0;
+  why = ReadHeader(bytes, size, out.Header, count, version);
   if (!why.empty())
   {
     return Fail(error, where + why);
   }
   // the directory: every array checked, then no two overlapping
   std::vector<std::pair<uint64_t, uint64_t>> extents;
+  std::vector<StoredBlocks> blocks(count);
   for (uint32_t a = 0; a < count; ++a)
   {
     FileArray f;
     std::pair<uint64_t, uint64_t> extent;
-    why = ReadArray(bytes, size, out.Header, count, a, verifyChecksums, out.Mapped, f, extent);
+    why = ReadArray(bytes, size, out.Header, count, version, a, verifyChecksums, out.Mapped, f,
+      blocks[a], extent);
     if (!why.empty())
     {
+      out.Arrays.clear(); // nothing handed out from a file refused
       return Fail(error, where + why);
     }
     if (extent.second > extent.first)
@@ -904,10 +1354,16 @@ bool OpenOctreeFile(
   {
     if (extents[k].first < extents[k - 1].second)
     {
+      out.Arrays.clear();
       return Fail(error, where + "corrupt directory (arrays overlap)");
     }
   }
-  out.Memory = memory;
+  why = DecodeBlocks(out, blocks, memory, parallel ? parallel : ParallelFor(SerialFor));
+  if (!why.empty())
+  {
+    out.Arrays.clear(); // their decoded memory is gone
+    return Fail(error, where + why);
+  }
   return true;
 }
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 /**
  * @file plodOctreeFile.h
- * @brief VTK-free reading and writing of octree files (`.plod`), version 1.
+ * @brief VTK-free reading and writing of octree files (`.plod`), versions 1 and 2.
  *
  * The file holds every array of a vtkMultiscaleOctree and its root cube, so that a large scan
  * is built once and opened in milliseconds afterwards. Layout, all integers and floats
@@ -10,7 +10,7 @@
  * | offset | size | field |
  * | ---: | ---: | --- |
  * | 0 | 8 | magic `P L O D O C T \n` |
- * | 8 | 4 | format version (1) |
+ * | 8 | 4 | format version (1: every array stored as it is; 2: some arrays compressed) |
  * | 12 | 4 | byte-order mark 0x01020304 (bytes 04 03 02 01) |
  * | 16 | 4 | header size in bytes (128 + 64 per array) |
  * | 20 | 4 | number of arrays |
@@ -23,12 +23,24 @@
  * and directory (this field counted as 0) | | 124 | 4 | misoriented edges (uint32, saturated at
  * 2^32 - 1; 0 in files that predate it) | | 128 | 64 each | directory: name (32 bytes, NUL-padded),
  * group (1: 0 node, 1 cluster, 2 surface point, 3 surface triangle), type (1: uint8, 2: int32, 3:
- * float32, 4: int64), components (uint16), reserved (4), tuples (int64), offset (uint64), checksum
- * of the data (uint64) |
+ * float32, 4: int64), components (uint16), encoding (1: 0 stored as it is, 1 compressed blocks;
+ * always 0 in version 1), reserved (3), tuples (int64), offset (uint64), checksum of the data
+ * (uint64) |
  *
- * Each array's data starts at a multiple of 4096 bytes (so that it can be mapped in place) and
- * holds tuples x components values. The checksums are 64-bit FNV-1a over 8-byte words (the
- * tail byte by byte); the header's is folded to 32 bits.
+ * A compressed array (version 2, FileLayout::Compact) holds its tuples in blocks of a fixed
+ * number of tuples (the last one shorter), each decodable on its own: at the array's offset the
+ * tuples per block (uint32) and the number of blocks (uint32), then each block's stored bytes
+ * (uint32 each), then the blocks back to back. A block is its tuples' values, little-endian,
+ * transformed and then compressed with zstd: each value becomes its difference from the same
+ * component of the previous tuple of the block (the first tuple's from zero), taken as an
+ * unsigned integer of the value's size (a float by its bits, so nothing is lost) and
+ * zigzag-mapped (small differences of either sign become small numbers); the values' bytes are
+ * then grouped by significance (byte 0 of every value, then byte 1, and so on). The checksum of a
+ * compressed array runs over its blocks, then over its table (tuples per block, count, sizes).
+ *
+ * An array stored as it is starts at a multiple of 4096 bytes (so that it can be mapped in place)
+ * and holds tuples x components values; a compressed array starts at a multiple of 8 bytes. The checksums are 64-bit FNV-1a over
+ * 8-byte words (the tail byte by byte); the header's is folded to 32 bits.
  *
  * Writing never rewrites a file in place (see WriteOctreeFile). Reading opens only regular files
  * (a FIFO or a device is refused without being opened), maps the file (copy-on-write: edits of
@@ -36,14 +48,16 @@
  * modification time: CompareFileIdentity tells later whether it changed underneath) and checks
  * everything that does not need the data: magic, version, byte order, header checksum, sizes,
  * offsets inside the file, counts that agree with each group. The data's checksums are checked
- * only when asked (it reads every byte); the octree's consistency is checked by the filters that
- * use it (vtkMultiscaleOctree::IsConsistent).
+ * only when asked (it reads every byte), except a compressed array's, which is checked whenever
+ * it is decoded (on every open: its bytes are read anyway); the octree's consistency is checked by
+ * the filters that use it (vtkMultiscaleOctree::IsConsistent).
  */
 #ifndef plodOctreeFile_h
 #define plodOctreeFile_h
 
 #include "plodOctree.h"
 #include "plodOctreeSchema.h"
+#include "plodParallel.h"
 
 #include <cstdint>
 #include <functional>
@@ -89,11 +103,30 @@ struct FileArray
   uint64_t Checksum = 0;      // when read: the stored one
   /// To write an array that is not in memory (Data null): fills `out` with `count` values
   /// (tuples x components) from value `first` on, in host byte order; false with the reason.
-  /// Called in order, twice (the checksum, then the write), with at most 1 MiB at a time.
+  /// Called once over the array, in order, with at most 1 MiB at a time.
   std::function<bool(int64_t first, int64_t count, void* out, std::string* why)> Values;
 };
 
-/// The arrays an octree file of version 1 holds, in file order: the required arrays of
+/// How an octree file stores its arrays.
+enum class FileLayout
+{
+  /// Version 1: every array as it is in memory, on a page boundary, so that the file is mapped
+  /// in place and opens in a millisecond at any size; nothing is read before it is used.
+  Mapped,
+  /// Version 2: every array compressed in blocks (see the layout above), a third of the bytes or
+  /// less; the file is read and decoded into memory when it is opened.
+  Compact
+};
+
+/// How WriteOctreeFile writes.
+struct FileWriteOptions
+{
+  FileLayout Layout = FileLayout::Mapped;
+  /// How a compact file's blocks are compressed (in parallel or not; the bytes are the same).
+  ParallelFor Parallel = SerialFor;
+};
+
+/// The arrays an octree file holds, in file order: the required arrays of
 /// plodOctreeSchema.h (the optional ones are not stored).
 const std::vector<ArraySpec>& OctreeFileSchema();
 
@@ -111,6 +144,10 @@ const std::vector<ArraySpec>& OctreeFileSchema();
  * FIFO, a device, a socket, a link to one of them) is refused before anything is written. False
  * with `error` set (what failed, and for which file) on failure.
  */
+bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
+  const std::vector<FileArray>& arrays, const FileWriteOptions& options, std::string* error);
+
+/// WriteOctreeFile with the default options (FileLayout::Mapped).
 bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
   const std::vector<FileArray>& arrays, std::string* error);
 
@@ -154,17 +191,20 @@ struct OctreeFile
   std::vector<FileArray> Arrays;
   std::shared_ptr<void> Memory; // keeps the mapping (or buffer) alive
   bool Mapped = false;          // true when Data point into a memory map of the file
+  bool Compact = false;         // true when arrays were compressed (decoded into memory)
   FileIdentity Identity;        // the file that was opened, as it was then
 };
 
 /**
  * Opens `path`. `verifyChecksums` also reads every array and compares its checksum (slower: it
- * touches the whole file). `mapFile` false reads the file into memory instead of mapping it.
- * False with `error` set (what is wrong, and where) on a missing, truncated, corrupt or foreign
- * file.
+ * touches the whole file). `mapFile` false reads the file into memory instead of mapping it. The
+ * compressed arrays of a compact file are decoded into memory (their blocks run through
+ * `parallel`, serially when it is empty) and their checksums are always verified; an array
+ * stored as it is stays in the map. False with `error` set (what is wrong, and where) on a
+ * missing, truncated, corrupt or foreign file.
  */
-bool OpenOctreeFile(
-  const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out, std::string* error);
+bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out,
+  std::string* error, const ParallelFor& parallel = ParallelFor());
 
 /// The schema's arrays of an octree, in OctreeFileSchema() order, pointing into `v` (to write).
 std::vector<FileArray> FileArraysOf(const OctreeView& v);

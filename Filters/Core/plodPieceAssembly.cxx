@@ -902,7 +902,10 @@ private:
       };
       arrays.push_back(std::move(f));
     }
-    if (!WriteOctreeFile(path, header, arrays, this->Why))
+    FileWriteOptions options;
+    options.Layout = this->Params.Layout;
+    options.Parallel = this->Params.Parallel;
+    if (!WriteOctreeFile(path, header, arrays, options, this->Why))
     {
       return false;
     }

@@ -34,6 +34,7 @@
 #define plodPieceAssembly_h
 
 #include "plodOctreeBuilder.h"
+#include "plodOctreeFile.h"
 #include "plodParallel.h"
 #include "plodPieces.h"
 
@@ -51,8 +52,10 @@ struct AssemblyParameters
   /// Bytes one piece may use, as its pieces were sized (PiecesParameters::MemoryLimit). The
   /// build's own estimate, which is larger than what it takes, is checked against twice it.
   double MemoryLimit = 4.0e9;
-  /// How each piece's build runs its ranges.
+  /// How each piece's build runs its ranges (and the compact file's compression).
   ParallelFor Parallel = SerialFor;
+  /// How the file stores its arrays (FileLayout::Compact: compressed, see plodOctreeFile.h).
+  FileLayout Layout = FileLayout::Mapped;
   /// Called with the fraction done of the current step, in [0, 1], and the step's name
   /// ("building the pieces", "writing the file"); return false to abort.
   std::function<bool(double, const char*)> Progress;

@@ -5,7 +5,7 @@
 // bigger than memory (docs/benchmarks.md, "Building in pieces").
 //
 //   plodBuildInPieces model.ply --save out.plod [--memory 4G] [--level k] [--pieces n]
-//                               [--threads t] [--tmp folder]
+//                               [--threads t] [--tmp folder] [--compact]
 //
 // --memory bounds one piece (its merge, then its build); the pieces are built one after the
 // other, each over --threads threads (default: all cores).
@@ -99,6 +99,7 @@ int main(int argc, char* argv[])
   plod::PiecesParameters params;
   params.MemoryLimit = 4.0 * 1024 * 1024 * 1024;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  bool compact = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -114,13 +115,15 @@ int main(int argc, char* argv[])
       params.TemporaryDirectory = argv[++i];
     else if (a == "--save" && i + 1 < argc)
       save = argv[++i];
+    else if (a == "--compact")
+      compact = true;
     else if (a[0] != '-' && path.empty())
       path = a;
     else
     {
       std::fprintf(stderr,
         "usage: %s model.ply --save out.plod [--memory 4G] [--level k] [--pieces n] "
-        "[--threads t] [--tmp dir]\n",
+        "[--threads t] [--tmp dir] [--compact]\n",
         argv[0]);
       return 1;
     }
@@ -170,6 +173,7 @@ int main(int argc, char* argv[])
   assembly.MemoryLimit = params.MemoryLimit;
   assembly.Parallel = ThreadFor(threads);
   assembly.Progress = params.Progress;
+  assembly.Layout = compact ? plod::FileLayout::Compact : plod::FileLayout::Mapped;
   plod::AssemblyReport report;
   const Clock::time_point built = Clock::now();
   if (!plod::WriteOctreeFileFromPieces(pieces, save, assembly, &report, &why))

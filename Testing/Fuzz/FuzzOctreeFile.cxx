@@ -16,7 +16,8 @@
  *           checksums; bit 2: read into memory instead of mapping; bit 3: truncate at the
  *           position of the first edit; bit 4: once opened, save the undamaged octree over
  *           the open file (plod::WriteOctreeFile); bit 5: once opened, truncate the open file
- *           in place to half its size
+ *           in place to half its size; bit 6: write the compact layout (FileLayout::Compact:
+ *           compressed blocks, decoded on opening, their checksums always verified)
  *   then edits of 5 bytes: a position (uint32 little-endian, modulo the file size) and a byte
  *           to XOR there (0 sets the byte to 0xff)
  *
@@ -137,7 +138,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   const std::string path = "/tmp/plod_fuzz_file_" + std::to_string(::getpid()) + ".plod";
   std::string why;
   const std::vector<plod::FileArray> written = plod::FileArraysOf(storage.View(r));
-  CHECK(plod::WriteOctreeFile(path, header, written, &why), why);
+  plod::FileWriteOptions layout;
+  layout.Layout = (data[2] & 64) ? plod::FileLayout::Compact : plod::FileLayout::Mapped;
+  CHECK(plod::WriteOctreeFile(path, header, written, layout, &why), why);
 
   // the undamaged file reads back bit for bit
   std::ifstream original(path, std::ios::binary);
@@ -229,7 +232,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
       return all;
     };
     const std::vector<unsigned char> before = arrayBytes();
-    CHECK(plod::WriteOctreeFile(path, header, written, &why), why);
+    CHECK(plod::WriteOctreeFile(path, header, written, layout, &why), why);
     std::string change;
     CHECK(plod::CompareFileIdentity(file.Identity, &change) == plod::FileChange::Replaced,
       "a save over an open file is not seen as a replacement: " + change);

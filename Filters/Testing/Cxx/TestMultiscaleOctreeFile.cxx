@@ -86,11 +86,12 @@ vtkSmartPointer<vtkMultiscaleOctree> BuildOctree(int res = 40)
   return octree;
 }
 
-bool Write(vtkMultiscaleOctree* octree, const std::string& path)
+bool Write(vtkMultiscaleOctree* octree, const std::string& path, bool compact = false)
 {
   vtkNew<vtkMultiscaleOctreeWriter> writer;
   writer->SetInputData(octree);
   writer->SetFileName(path.c_str());
+  writer->SetCompact(compact);
   return writer->Write() == 1;
 }
 
@@ -167,7 +168,8 @@ struct ReadResult
   bool Reported = false; // an ErrorEvent was raised
 };
 
-ReadResult Read(const std::string& path, bool verify = false, bool map = true)
+ReadResult Read(
+  const std::string& path, bool verify = false, bool map = true, bool* compact = nullptr)
 {
   vtkNew<vtkMultiscaleOctreeReader> reader;
   vtkNew<plodtest::ErrorRecorder> errors;
@@ -180,6 +182,10 @@ ReadResult Read(const std::string& path, bool verify = false, bool map = true)
   r.Octree = reader->GetOutput();
   r.Error = reader->GetErrorMessage();
   r.Reported = !errors->Errors.empty();
+  if (compact)
+  {
+    *compact = reader->GetCompact();
+  }
   return r;
 }
 }
@@ -189,33 +195,39 @@ TEST(MultiscaleOctreeFile, RoundTripKeepsEveryArrayAndTheImage)
   auto octree = BuildOctree();
   ASSERT_GT(octree->GetNumberOfNodes(), 100);
   ASSERT_TRUE(octree->GetHasMaterialArrays());
-  const std::string path = TempPath("roundtrip.plod");
-  ASSERT_TRUE(Write(octree, path));
-  EXPECT_TRUE(vtkMultiscaleOctreeReader::CanReadFile(path.c_str()));
   const auto reference = Draw(octree, nullptr);
   ASSERT_GT(reference->GetNumberOfPolys(), 0);
-  for (bool map : { true, false })
-    for (bool verify : { false, true })
-    {
-      ReadResult r = Read(path, verify, map);
-      ASSERT_TRUE(r.Error.empty()) << r.Error;
-      ExpectIdentical(octree, r.Octree, map ? "mapped" : "read");
-      EXPECT_TRUE(r.Octree->IsConsistent());
-      // the same cut and the same triangles, at the same places
-      auto drawn = Draw(r.Octree, nullptr);
-      ASSERT_EQ(drawn->GetNumberOfPolys(), reference->GetNumberOfPolys());
-      ASSERT_EQ(drawn->GetNumberOfPoints(), reference->GetNumberOfPoints());
-      for (vtkIdType i = 0; i < drawn->GetNumberOfPoints(); i += 17)
+  for (bool compact : { false, true })
+  {
+    SCOPED_TRACE(compact ? "compact layout" : "mapped layout");
+    const std::string path = TempPath("roundtrip.plod");
+    ASSERT_TRUE(Write(octree, path, compact));
+    EXPECT_TRUE(vtkMultiscaleOctreeReader::CanReadFile(path.c_str()));
+    for (bool map : { true, false })
+      for (bool verify : { false, true })
       {
-        double p[3], q[3];
-        drawn->GetPoint(i, p);
-        reference->GetPoint(i, q);
-        EXPECT_EQ(p[0], q[0]);
-        EXPECT_EQ(p[1], q[1]);
-        EXPECT_EQ(p[2], q[2]);
+        bool decoded = !compact;
+        ReadResult r = Read(path, verify, map, &decoded);
+        ASSERT_TRUE(r.Error.empty()) << r.Error;
+        EXPECT_EQ(decoded, compact);
+        ExpectIdentical(octree, r.Octree, map ? "mapped" : "read");
+        EXPECT_TRUE(r.Octree->IsConsistent());
+        // the same cut and the same triangles, at the same places
+        auto drawn = Draw(r.Octree, nullptr);
+        ASSERT_EQ(drawn->GetNumberOfPolys(), reference->GetNumberOfPolys());
+        ASSERT_EQ(drawn->GetNumberOfPoints(), reference->GetNumberOfPoints());
+        for (vtkIdType i = 0; i < drawn->GetNumberOfPoints(); i += 17)
+        {
+          double p[3], q[3];
+          drawn->GetPoint(i, p);
+          reference->GetPoint(i, q);
+          EXPECT_EQ(p[0], q[0]);
+          EXPECT_EQ(p[1], q[1]);
+          EXPECT_EQ(p[2], q[2]);
+        }
       }
-    }
-  std::remove(path.c_str());
+    std::remove(path.c_str());
+  }
 }
 
 TEST(MultiscaleOctreeFile, MappedArraysOutliveTheReaderAndEditsStayInMemory)
@@ -363,11 +375,14 @@ TEST(MultiscaleOctreeFile, WriterRefusesBadInputWithAMessage)
   std::remove(path.c_str());
 }
 
-TEST(MultiscaleOctreeFile, CorruptFilesAreClearErrorsNeverCrashes)
+namespace
+{
+/// The corrupt-file battery on a file of either layout.
+void ExpectCorruptFilesRefused(bool compact)
 {
   auto octree = BuildOctree(20);
   const std::string good = TempPath("good.plod");
-  ASSERT_TRUE(Write(octree, good));
+  ASSERT_TRUE(Write(octree, good, compact));
   const std::vector<char> bytes = ReadBytes(good);
   const size_t header = 128 + 64 * 25;
   ASSERT_GT(bytes.size(), header + 4096);
@@ -411,8 +426,8 @@ TEST(MultiscaleOctreeFile, CorruptFilesAreClearErrorsNeverCrashes)
     b[0] = 'X';
     expectRefused(b, "wrong magic", "not an octree file");
     b = bytes;
-    b[8] = 2;
-    expectRefused(b, "version 2", "version 2");
+    b[8] = 3;
+    expectRefused(b, "version 3", "version 3");
     const std::string ply = "ply\nformat ascii 1.0\nelement vertex 0\nend_header\n";
     expectRefused(std::vector<char>(ply.begin(), ply.end()), "a PLY file");
     expectRefused(std::vector<char>(200, 0), "zeros", "not an octree file");
@@ -426,7 +441,7 @@ TEST(MultiscaleOctreeFile, CorruptFilesAreClearErrorsNeverCrashes)
     expectRefused(b, "byte " + std::to_string(i) + " flipped");
   }
   // data damaged: refused with VerifyChecksums; without it, the filters refuse what they
-  // cannot use, and nothing crashes
+  // cannot use, and nothing crashes. A compact file's damaged block is refused on every open.
   std::mt19937 rng(9);
   std::uniform_int_distribution<size_t> at(4096, bytes.size() - 1);
   int caughtLater = 0;
@@ -443,9 +458,20 @@ TEST(MultiscaleOctreeFile, CorruptFilesAreClearErrorsNeverCrashes)
       ExpectIdentical(octree, checked.Octree, "padding byte " + std::to_string(i));
       continue;
     }
-    EXPECT_NE(checked.Error.find("checksum"), std::string::npos) << "byte " << i;
+    // a compact array's table (its blocks' sizes) may be caught before its checksum
+    EXPECT_TRUE(checked.Error.find("checksum") != std::string::npos ||
+      (compact && checked.Error.find("block") != std::string::npos))
+      << "byte " << i << ": " << checked.Error;
     EXPECT_EQ(checked.Octree->GetNumberOfNodes(), 0);
     ReadResult unchecked = Read(path, false, true);
+    if (compact)
+    {
+      EXPECT_EQ(unchecked.Error, checked.Error) << "byte " << i;
+      EXPECT_EQ(unchecked.Octree->GetNumberOfNodes(), 0);
+      ++caughtLater;
+      ++cases;
+      continue;
+    }
     ASSERT_TRUE(unchecked.Error.empty());
     vtkNew<plodtest::ErrorRecorder> errors;
     Draw(unchecked.Octree, errors);
@@ -465,6 +491,17 @@ TEST(MultiscaleOctreeFile, CorruptFilesAreClearErrorsNeverCrashes)
   EXPECT_GT(cases, header);
   std::remove(path.c_str());
   std::remove(good.c_str());
+}
+}
+
+TEST(MultiscaleOctreeFile, CorruptFilesAreClearErrorsNeverCrashes)
+{
+  ExpectCorruptFilesRefused(false);
+}
+
+TEST(MultiscaleOctreeFile, CorruptCompactFilesAreRefusedOnEveryOpen)
+{
+  ExpectCorruptFilesRefused(true);
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -500,8 +537,8 @@ int LeftoverTemporaries(const std::string& path)
 
 /// Writes `octree` to `path` while the process may write files of at most `limit` bytes (as a
 /// full disk would stop it: writes past the limit fail with EFBIG); the writer's message.
-std::string WriteWithFileSizeLimit(
-  vtkMultiscaleOctree* octree, const std::string& path, rlim_t limit, int* result)
+std::string WriteWithFileSizeLimit(vtkMultiscaleOctree* octree, const std::string& path,
+  rlim_t limit, int* result, bool compact = false)
 {
   struct rlimit old;
   ::getrlimit(RLIMIT_FSIZE, &old);
@@ -514,6 +551,7 @@ std::string WriteWithFileSizeLimit(
   writer->AddObserver(vtkCommand::ErrorEvent, errors);
   writer->SetInputData(octree);
   writer->SetFileName(path.c_str());
+  writer->SetCompact(compact);
   *result = writer->Write();
   ::setrlimit(RLIMIT_FSIZE, &old);
   std::signal(SIGXFSZ, previous);
@@ -527,16 +565,19 @@ bool IsFifo(const std::string& path)
 }
 }
 
-TEST(MultiscaleOctreeFile, FailedOverwriteLeavesTheOldFileByteIdentical)
+namespace
+{
+/// A save that fails half way (a full disk), in either layout.
+void FailedOverwrite(bool compact)
 {
   auto small = BuildOctree(16);
   auto large = BuildOctree(40);
   const std::string path = TempPath("keep.plod");
-  ASSERT_TRUE(Write(small, path));
+  ASSERT_TRUE(Write(small, path, compact));
   const std::vector<char> before = ReadBytes(path);
   // a disk that fills up half way through the new file
   int result = 1;
-  const std::string message = WriteWithFileSizeLimit(large, path, 48 * 1024, &result);
+  const std::string message = WriteWithFileSizeLimit(large, path, 48 * 1024, &result, compact);
   EXPECT_EQ(result, 0);
   EXPECT_NE(message.find("failed"), std::string::npos) << message;
   EXPECT_NE(message.find("the existing file is unchanged"), std::string::npos) << message;
@@ -548,19 +589,29 @@ TEST(MultiscaleOctreeFile, FailedOverwriteLeavesTheOldFileByteIdentical)
   // and a new file that cannot be finished is not made at all
   const std::string fresh = TempPath("never.plod");
   std::remove(fresh.c_str());
-  const std::string second = WriteWithFileSizeLimit(large, fresh, 48 * 1024, &result);
+  const std::string second = WriteWithFileSizeLimit(large, fresh, 48 * 1024, &result, compact);
   EXPECT_EQ(result, 0);
   EXPECT_NE(second.find("no file was made"), std::string::npos) << second;
   EXPECT_NE(::access(fresh.c_str(), F_OK), 0) << "a partial file was left";
   EXPECT_EQ(LeftoverTemporaries(fresh), 0);
   // a save that succeeds replaces the file and keeps its permissions
   ASSERT_EQ(::chmod(path.c_str(), 0640), 0);
-  ASSERT_TRUE(Write(large, path));
+  ASSERT_TRUE(Write(large, path, compact));
   struct stat st;
   ASSERT_EQ(::stat(path.c_str(), &st), 0);
   EXPECT_EQ(st.st_mode & 0777, 0640u);
   ExpectIdentical(large, Read(path).Octree, "after a good overwrite");
   std::remove(path.c_str());
+}
+}
+
+TEST(MultiscaleOctreeFile, FailedOverwriteLeavesTheOldFileByteIdentical)
+{
+  for (bool compact : { false, true })
+  {
+    SCOPED_TRACE(compact ? "compact layout" : "mapped layout");
+    FailedOverwrite(compact);
+  }
 }
 
 TEST(MultiscaleOctreeFile, TargetsThatAreNotRegularFilesAreRefusedAndKept)
@@ -750,4 +801,59 @@ TEST(MultiscaleOctreeFile, FifoIsRefusedWithoutWaiting)
   ::alarm(0);
   std::remove(fifo.c_str());
   ::rmdir(dir.c_str());
+}
+
+// The compact layout on a real scan: lossless (the same arrays bit for bit) and at most 24 bytes
+// per input triangle, under half the mapped file; the octree built into a compact file in pieces
+// (vtkMultiscaleOctreeBuilder::SetCompactOctreeFile) is the octree built into a mapped one.
+TEST(MultiscaleOctreeFile, CompactFileOfAScanIsLosslessAndSmall)
+{
+  const std::string dir = plodtest::DataDir();
+  if (dir.empty())
+  {
+    GTEST_SKIP() << "../shared/data (Stanford scans) not found: set PLOD_DATA_DIR";
+  }
+  const std::string ply = dir + "/bun_zipper.ply";
+  auto bunny = plodtest::ReadPLY(ply);
+  ASSERT_NE(bunny, nullptr);
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(bunny);
+  builder->Update();
+  vtkMultiscaleOctree* octree = builder->GetOutput();
+  const double triangles = double(bunny->GetNumberOfPolys());
+  const std::string mapped = TempPath("bunny.plod"), compact = TempPath("bunny-compact.plod");
+  ASSERT_TRUE(Write(octree, mapped, false));
+  ASSERT_TRUE(Write(octree, compact, true));
+  const double mappedBytes = double(ReadBytes(mapped).size());
+  const double compactBytes = double(ReadBytes(compact).size());
+  EXPECT_LE(compactBytes / triangles, 24.0) << compactBytes << " bytes";
+  EXPECT_LT(compactBytes, 0.5 * mappedBytes) << compactBytes << " of " << mappedBytes;
+  bool decoded = false;
+  ReadResult r = Read(compact, false, true, &decoded);
+  ASSERT_TRUE(r.Error.empty()) << r.Error;
+  EXPECT_TRUE(decoded);
+  ExpectIdentical(octree, r.Octree, "the bunny, compact");
+
+  // built in pieces into a compact file: the same arrays as into a mapped one
+  const std::string pieces = TempPath("bunny-pieces.plod");
+  const std::string compactPieces = TempPath("bunny-pieces-compact.plod");
+  vtkSmartPointer<vtkMultiscaleOctree> built[2];
+  for (bool c : { false, true })
+  {
+    vtkNew<vtkMultiscaleOctreeBuilder> fromFile;
+    fromFile->SetFileName(ply.c_str());
+    fromFile->SetOctreeFileName((c ? compactPieces : pieces).c_str());
+    fromFile->SetBuildInPieces(true);
+    fromFile->SetCompactOctreeFile(c);
+    fromFile->Update();
+    ASSERT_GT(fromFile->GetOutput()->GetNumberOfNodes(), 0);
+    built[c] = vtkSmartPointer<vtkMultiscaleOctree>::New();
+    built[c]->ShallowCopy(fromFile->GetOutput());
+  }
+  ExpectIdentical(built[0], built[1], "built in pieces, compact");
+  EXPECT_LT(ReadBytes(compactPieces).size(), ReadBytes(pieces).size() / 2);
+  for (const std::string& p : { mapped, compact, pieces, compactPieces })
+  {
+    std::remove(p.c_str());
+  }
 }

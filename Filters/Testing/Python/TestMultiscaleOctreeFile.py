@@ -1,6 +1,7 @@
 """Octree files from Python: vtkMultiscaleOctreeWriter and vtkMultiscaleOctreeReader. The arrays
 read back are numpy-identical to those built, the reader maps the file (edits stay in memory),
-and a damaged file gives an error and an empty octree."""
+the compact layout reads back identical in fewer bytes, and a damaged file gives an error and an
+empty octree."""
 import os
 import tempfile
 import unittest
@@ -66,6 +67,26 @@ class OctreeFileTest(unittest.TestCase):
                 name = a.GetArrayName(i)
                 x, y = vtk_to_numpy(a.GetArray(name)), vtk_to_numpy(b.GetArray(name))
                 self.assertEqual(x.dtype, y.dtype, name)
+                self.assertTrue(np.array_equal(x.view(np.uint8), y.view(np.uint8)), name)
+
+    def test_compact_file_is_identical_and_smaller(self):
+        compact = os.path.join(self.folder.name, 'compact.plod')
+        writer = vtkMultiscaleOctreeWriter()
+        writer.SetInputConnection(self.builder.GetOutputPort())
+        writer.SetFileName(compact)
+        writer.CompactOn()
+        self.assertEqual(writer.Write(), 1, writer.GetErrorMessage())
+        self.assertLess(os.path.getsize(compact), os.path.getsize(self.path) / 2)
+        reader, errors = self.read(compact)
+        self.assertEqual(errors.messages, [])
+        self.assertTrue(reader.GetCompact())
+        self.assertFalse(reader.GetMapped())
+        built, read = self.builder.GetOutput(), reader.GetOutput()
+        for group in ('GetNodeData', 'GetClusterData', 'GetSurfaceData'):
+            a, b = getattr(built, group)(), getattr(read, group)()
+            for i in range(a.GetNumberOfArrays()):
+                name = a.GetArrayName(i)
+                x, y = vtk_to_numpy(a.GetArray(name)), vtk_to_numpy(b.GetArray(name))
                 self.assertTrue(np.array_equal(x.view(np.uint8), y.view(np.uint8)), name)
 
     def test_edits_stay_in_memory(self):
