@@ -17,9 +17,12 @@
 // (plodPieces.h, plodPieceAssembly.h), straight into the octree file, with temporary files
 // beside it; --pieces builds that way whatever the size. --compact saves the compact layout
 // (arrays compressed, about a third of the bytes, decoded into memory when opened) instead of
-// the mapped one. Progress, with the time left, goes to stdout.
+// the mapped one; an octree file given with --save is converted to the layout asked for, block
+// by block (plod::ConvertOctreeFile: a compact file larger than memory becomes a mapped one).
+// Progress, with the time left, goes to stdout.
 #include "plodMeshFileCheck.h"
 #include "plodOctreeBuilder.h"
+#include "plodOctreeFile.h"
 #include "plodPLYRead.h"
 #include "plodTestUtilities.h"
 
@@ -72,7 +75,8 @@ double ParseMiB(const std::string& text)
 }
 
 /// What a build of `header`'s model in pieces into `save` will take on disk, printed.
-void PrintPiecesEstimate(const plod::PLYSummary& header, const std::string& save, double limitMiB)
+void PrintPiecesEstimate(
+  const plod::PLYSummary& header, const std::string& save, double limitMiB, bool compact)
 {
   const double MiB = 1024.0 * 1024.0;
   // temporary disk at its peak: the points and triangles (as read, then in pieces with their
@@ -83,8 +87,9 @@ void PrintPiecesEstimate(const plod::PLYSummary& header, const std::string& save
   const double temporary =
     vertexBytes * double(header.NumberOfVertices) + 40.0 * double(header.NumberOfFaces) + file;
   std::printf("building in pieces within %.0f MiB into %s: about %.0f MiB of temporary files "
-              "beside it, a file of about %.0f MiB\n",
-    limitMiB, save.c_str(), temporary / MiB, file / MiB);
+              "beside it, a file of about %.0f MiB%s\n",
+    limitMiB, save.c_str(), temporary / MiB, file / MiB,
+    compact ? " in the mapped layout (compact: about 40 % of that, by content)" : "");
   std::fflush(stdout);
 }
 
@@ -219,8 +224,26 @@ int main(int argc, char* argv[])
   vtkNew<vtkMultiscaleOctreeBuilder> builder;
   vtkNew<vtkMultiscaleOctreeReader> reader;
   vtkMultiscaleOctree* octree = nullptr;
+  bool converted = false;
   if (!file.empty() && vtkMultiscaleOctreeReader::CanReadFile(file.c_str()))
   {
+    if (!save.empty())
+    {
+      // an octree file saved again (in the other layout, say): converted block by block, so
+      // that a compact file larger than memory becomes a mapped one; then the copy is opened
+      plod::FileWriteOptions options;
+      options.Layout = compact ? plod::FileLayout::Compact : plod::FileLayout::Mapped;
+      std::string why;
+      if (!plod::ConvertOctreeFile(file, save, options, &why))
+      {
+        std::fprintf(stderr, "cannot save the octree: %s\n", why.c_str());
+        return 1;
+      }
+      std::printf("saved: %s (%s layout), converted from %s\n", save.c_str(),
+        compact ? "compact" : "mapped", file.c_str());
+      file = save;
+      converted = true;
+    }
     reader->SetFileName(file.c_str());
     reader->Update();
     octree = reader->GetOutput();
@@ -286,7 +309,7 @@ int main(int argc, char* argv[])
       if (!save.empty() && (inPieces || !fits))
       {
         // the builder writes the file, and its output is the file
-        PrintPiecesEstimate(header, save, builder->GetEffectiveMemoryLimit());
+        PrintPiecesEstimate(header, save, builder->GetEffectiveMemoryLimit(), compact);
         builder->SetOctreeFileName(save.c_str());
         builder->SetBuildInPieces(inPieces);
         builder->SetCompactOctreeFile(compact);
@@ -374,7 +397,7 @@ int main(int argc, char* argv[])
                 "vtkMultiscaleOctreeReader)\n",
       save.c_str());
   }
-  else if (!save.empty())
+  else if (!save.empty() && !converted)
   {
     vtkNew<vtkMultiscaleOctreeWriter> writer;
     writer->SetInputData(octree);

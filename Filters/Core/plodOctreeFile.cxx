@@ -33,8 +33,8 @@ constexpr uint32_t ByteOrderMark = 0x01020304u;
 constexpr size_t HeaderBytes = 128;
 constexpr size_t EntryBytes = 64;
 constexpr size_t NameBytes = 32;
-constexpr uint64_t Alignment = 4096;     // of an array stored as it is (mapped in place)
-constexpr uint64_t BlocksAlignment = 8;  // of a compressed array (never mapped in place)
+constexpr uint64_t Alignment = 4096;    // of an array stored as it is (mapped in place)
+constexpr uint64_t BlocksAlignment = 8; // of a compressed array (never mapped in place)
 constexpr uint32_t MaxArrays = 256;
 constexpr uint64_t FnvOffset = 14695981039346656037ull;
 constexpr uint64_t FnvPrime = 1099511628211ull;
@@ -437,6 +437,11 @@ std::string DecompressBlock(const FileArray& f, const unsigned char* stored, siz
   Transform(false, size, planes.data(), tuples, f.Components, out);
   return std::string();
 }
+
+struct StoredBlocks;
+bool OpenFile(const std::string& path, bool verifyChecksums, bool mapFile, bool decode,
+  OctreeFile& out, std::string* error, const ParallelFor& parallel,
+  std::vector<StoredBlocks>* kept);
 
 /// Where each array lies in the file being written, and how.
 struct PlacedArray
@@ -875,7 +880,7 @@ bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
     return abandon(why);
   }
   OctreeFile check;
-  if (!OpenOctreeFile(temporary, true, true, check, &why, options.Parallel) ||
+  if (!OpenFile(temporary, true, true, false, check, &why, options.Parallel, nullptr) ||
     check.Identity.Size != static_cast<int64_t>(fileSize))
   {
     return abandon("the written file does not read back: " + why);
@@ -1094,11 +1099,35 @@ std::string LocateBlocks(const unsigned char* bytes, uint64_t size, uint64_t off
   return std::string();
 }
 
-/// The checksum of a compressed array: its blocks, then its table.
-uint64_t BlocksChecksum(const StoredBlocks& blocks)
+/// Lets go of the whole pages of [begin, end) of a mapped file (`base` is the map's start),
+/// so that reading a file larger than memory does not hold it.
+void ReleasePages(unsigned char* base, uint64_t begin, uint64_t end)
 {
+  const uint64_t page = static_cast<uint64_t>(::sysconf(_SC_PAGESIZE));
+  begin = (begin + page - 1) / page * page;
+  end = end / page * page;
+  if (end > begin)
+  {
+    ::madvise(base + begin, static_cast<size_t>(end - begin), MADV_DONTNEED);
+  }
+}
+
+/// The checksum of a compressed array: its blocks, then its table. A mapped file's pages are
+/// let go once summed, every 64 MiB.
+uint64_t BlocksChecksum(unsigned char* base, const StoredBlocks& blocks, bool mapped)
+{
+  constexpr uint64_t window = uint64_t(64) << 20;
   Checksummer sum;
-  sum.Add(blocks.First, static_cast<size_t>(blocks.Start.back()));
+  const uint64_t first = static_cast<uint64_t>(blocks.First - base);
+  for (uint64_t done = 0; done < blocks.Start.back(); done += window)
+  {
+    const uint64_t n = std::min(window, blocks.Start.back() - done);
+    sum.Add(blocks.First + done, static_cast<size_t>(n));
+    if (mapped)
+    {
+      ReleasePages(base, first + done, first + done + n);
+    }
+  }
   sum.Add(blocks.Table, static_cast<size_t>(8 + 4 * blocks.Count));
   return sum.Finish();
 }
@@ -1161,7 +1190,7 @@ std::string ReadArray(unsigned char* bytes, uint64_t size, const OctreeFileHeade
     {
       why = LocateBlocks(bytes, size, offset, f, blocks, extent);
     }
-    if (why.empty() && BlocksChecksum(blocks) != f.Checksum)
+    if (why.empty() && BlocksChecksum(bytes, blocks, mapped) != f.Checksum)
     {
       why = "is corrupt (checksum mismatch)";
     }
@@ -1231,6 +1260,21 @@ std::string DecodeBlocks(OctreeFile& out, const std::vector<StoredBlocks>& block
   };
   std::vector<Job> jobs;
   bool inFile = false;
+  uint64_t decoded = 0;
+  for (size_t a = 0; a < out.Arrays.size(); ++a)
+  {
+    decoded += blocks[a].Table ? DataBytes(out.Arrays[a]) : 0;
+  }
+  const double machine = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGESIZE));
+  if (machine > 0 && double(decoded) > 0.75 * machine)
+  {
+    // memory the kernel would grant and then not have: refused before a byte is decoded
+    return "decoding this compact file takes " + std::to_string(decoded >> 20) +
+      " MiB, more than three quarters of this machine's " +
+      std::to_string(static_cast<uint64_t>(machine) >> 20) +
+      " MiB; convert it to the mapped layout (plod::ConvertOctreeFile, PerceptualLODMain "
+      "file.plod --save mapped.plod), which is read only where a view looks";
+  }
   for (size_t a = 0; a < out.Arrays.size(); ++a)
   {
     FileArray& f = out.Arrays[a];
@@ -1284,10 +1328,12 @@ std::string DecodeBlocks(OctreeFile& out, const std::vector<StoredBlocks>& block
   out.Memory = opened;
   return std::string();
 }
-} // namespace
 
-bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out,
-  std::string* error, const ParallelFor& parallel)
+/// OpenOctreeFile; `decode` false checks a compact file's blocks (table and checksum) without
+/// decoding them (its compressed arrays are then left without Data), as a writer's check of
+/// the file it wrote does, in bounded memory.
+bool OpenFile(const std::string& path, bool verifyChecksums, bool mapFile, bool decode,
+  OctreeFile& out, std::string* error, const ParallelFor& parallel, std::vector<StoredBlocks>* kept)
 {
   out = OctreeFile();
   const std::string where = path + ": ";
@@ -1358,11 +1404,89 @@ bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile,
       return Fail(error, where + "corrupt directory (arrays overlap)");
     }
   }
+  if (!decode)
+  {
+    out.Memory = memory;
+    if (kept)
+    {
+      *kept = std::move(blocks); // they point into out.Memory
+    }
+    return true;
+  }
   why = DecodeBlocks(out, blocks, memory, parallel ? parallel : ParallelFor(SerialFor));
   if (!why.empty())
   {
     out.Arrays.clear(); // their decoded memory is gone
     return Fail(error, where + why);
+  }
+  return true;
+}
+} // namespace
+
+bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out,
+  std::string* error, const ParallelFor& parallel)
+{
+  return OpenFile(path, verifyChecksums, mapFile, true, out, error, parallel, nullptr);
+}
+
+bool ConvertOctreeFile(const std::string& from, const std::string& to,
+  const FileWriteOptions& options, std::string* error)
+{
+  OctreeFile in;
+  std::vector<StoredBlocks> blocks;
+  if (!OpenFile(from, true, true, false, in, error, options.Parallel, &blocks))
+  {
+    return false;
+  }
+  std::vector<FileArray> arrays = in.Arrays;
+  for (size_t a = 0; a < arrays.size(); ++a)
+  {
+    if (!blocks[a].Table)
+    {
+      continue; // stored as it is: written from the map
+    }
+    // a compressed array is decoded block by block as the writer asks for its values
+    struct Decoded
+    {
+      uint64_t Block = ~uint64_t(0);
+      std::vector<unsigned char> Values;
+    };
+    auto cache = std::make_shared<Decoded>();
+    const StoredBlocks* b = &blocks[a];
+    const FileArray f = arrays[a];
+    arrays[a].Data = nullptr;
+    arrays[a].Values = [b, f, cache](int64_t first, int64_t count, void* out, std::string* why) {
+      const uint64_t size = uint64_t(FileTypeSize(f.Type));
+      const uint64_t perBlock = b->TuplesPerBlock * uint64_t(f.Components);
+      unsigned char* to = static_cast<unsigned char*>(out);
+      for (uint64_t v = uint64_t(first); v < uint64_t(first + count);)
+      {
+        const uint64_t k = v / perBlock;
+        if (cache->Block != k)
+        {
+          const uint64_t tuples =
+            std::min<uint64_t>(b->TuplesPerBlock, uint64_t(f.Tuples) - k * b->TuplesPerBlock);
+          cache->Values.resize(static_cast<size_t>(tuples * f.Components * size));
+          const std::string wrong = DecompressBlock(f, b->First + b->Start[k],
+            b->Start[k + 1] - b->Start[k], static_cast<size_t>(tuples), cache->Values.data());
+          if (!wrong.empty())
+          {
+            *why = "block " + std::to_string(k) + " is corrupt: " + wrong;
+            return false;
+          }
+          cache->Block = k;
+        }
+        const uint64_t n = std::min<uint64_t>(uint64_t(first + count) - v, (k + 1) * perBlock - v);
+        std::memcpy(to, cache->Values.data() + (v - k * perBlock) * size, n * size);
+        to += n * size;
+        v += n;
+      }
+      return true;
+    };
+  }
+  if (!WriteOctreeFile(to, in.Header, arrays, options, error))
+  {
+    return false;
   }
   return true;
 }

@@ -39,8 +39,9 @@
  * compressed array runs over its blocks, then over its table (tuples per block, count, sizes).
  *
  * An array stored as it is starts at a multiple of 4096 bytes (so that it can be mapped in place)
- * and holds tuples x components values; a compressed array starts at a multiple of 8 bytes. The checksums are 64-bit FNV-1a over
- * 8-byte words (the tail byte by byte); the header's is folded to 32 bits.
+ * and holds tuples x components values; a compressed array starts at a multiple of 8 bytes. The
+ * checksums are 64-bit FNV-1a over 8-byte words (the tail byte by byte); the header's is folded to
+ * 32 bits.
  *
  * Writing never rewrites a file in place (see WriteOctreeFile). Reading opens only regular files
  * (a FIFO or a device is refused without being opened), maps the file (copy-on-write: edits of
@@ -150,6 +151,17 @@ bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
 /// WriteOctreeFile with the default options (FileLayout::Mapped).
 bool WriteOctreeFile(const std::string& path, const OctreeFileHeader& header,
   const std::vector<FileArray>& arrays, std::string* error);
+
+/**
+ * Writes the octree file `from` again as `to` in `options.Layout` (a compact file to the mapped
+ * layout, or back) without decoding it whole: a compressed array is decoded one block at a
+ * time as the writer asks for its values, so that the memory it takes stays bounded whatever
+ * the file's size. Every checksum of `from` is verified first; `to` is written as
+ * WriteOctreeFile writes (never over a file in place; `from` and `to` may be the same file).
+ * False with `error` set on failure.
+ */
+bool ConvertOctreeFile(const std::string& from, const std::string& to,
+  const FileWriteOptions& options, std::string* error);
 
 /**
  * True when `path` names a regular file (following symbolic links), decided without opening it,

@@ -357,3 +357,34 @@ TEST(OctreeFile, DamagedCompactArraysAreRefusedOnEveryOpen)
   }
   std::remove(path.c_str());
 }
+
+TEST(OctreeFile, ConversionBetweenLayoutsGivesTheFileWrittenDirectly)
+{
+  const Arrays data;
+  const std::vector<plod::FileArray> arrays = data.Files(false);
+  const std::string mapped = TempPath("direct-mapped.plod");
+  const std::string compact = TempPath("direct-compact.plod");
+  const std::string converted = TempPath("converted.plod");
+  plod::FileWriteOptions toMapped, toCompact;
+  toCompact.Layout = plod::FileLayout::Compact;
+  std::string why;
+  ASSERT_TRUE(plod::WriteOctreeFile(mapped, data.Header(), arrays, toMapped, &why)) << why;
+  ASSERT_TRUE(plod::WriteOctreeFile(compact, data.Header(), arrays, toCompact, &why)) << why;
+  // compact to mapped, block by block, and back
+  ASSERT_TRUE(plod::ConvertOctreeFile(compact, converted, toMapped, &why)) << why;
+  EXPECT_EQ(ReadBytes(converted), ReadBytes(mapped));
+  ASSERT_TRUE(plod::ConvertOctreeFile(converted, converted, toCompact, &why)) << why;
+  EXPECT_EQ(ReadBytes(converted), ReadBytes(compact)) << "converted in place, by a rename";
+  // a damaged source is refused and the target left as it was
+  std::vector<char> bytes = ReadBytes(compact);
+  bytes[bytes.size() / 2] ^= 0x40; // inside the noisy normals
+  WriteBytes(compact, bytes);
+  const std::vector<char> before = ReadBytes(converted);
+  EXPECT_FALSE(plod::ConvertOctreeFile(compact, converted, toMapped, &why));
+  EXPECT_NE(why.find("corrupt"), std::string::npos) << why;
+  EXPECT_EQ(ReadBytes(converted), before);
+  for (const std::string& p : { mapped, compact, converted })
+  {
+    std::remove(p.c_str());
+  }
+}
