@@ -1454,8 +1454,10 @@ bool ConvertOctreeFile(const std::string& from, const std::string& to,
     auto cache = std::make_shared<Decoded>();
     const StoredBlocks* b = &blocks[a];
     const FileArray f = arrays[a];
+    unsigned char* base = in.Mapped ? static_cast<unsigned char*>(in.Memory.get()) : nullptr;
     arrays[a].Data = nullptr;
-    arrays[a].Values = [b, f, cache](int64_t first, int64_t count, void* out, std::string* why) {
+    arrays[a].Values = [b, f, cache, base](
+                         int64_t first, int64_t count, void* out, std::string* why) {
       const uint64_t size = uint64_t(FileTypeSize(f.Type));
       const uint64_t perBlock = b->TuplesPerBlock * uint64_t(f.Components);
       unsigned char* to = static_cast<unsigned char*>(out);
@@ -1475,6 +1477,11 @@ bool ConvertOctreeFile(const std::string& from, const std::string& to,
             return false;
           }
           cache->Block = k;
+          if (base) // the block's pages are not needed again
+          {
+            const uint64_t at = static_cast<uint64_t>(b->First - base);
+            ReleasePages(base, at + b->Start[k], at + b->Start[k + 1]);
+          }
         }
         const uint64_t n = std::min<uint64_t>(uint64_t(first + count) - v, (k + 1) * perBlock - v);
         std::memcpy(to, cache->Values.data() + (v - k * perBlock) * size, n * size);
