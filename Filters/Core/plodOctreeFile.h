@@ -134,11 +134,12 @@ const std::vector<ArraySpec>& OctreeFileSchema();
 /**
  * Writes `arrays` and `header` to `path` without ever losing what was there: the file is
  * written to a new temporary file beside the target (`.<name>.<random>.tmp`, in the target's
- * directory), flushed and synced, opened again and checked (structure and every checksum), and
- * only then renamed over the target, whose directory is synced. On any failure (a full disk, a
- * write error, a failed check) only the temporary file is removed: an existing target is left
- * byte for byte as it was. Because the target is replaced by a rename and never rewritten in
- * place, a program that has the old file mapped keeps reading the old file's bytes.
+ * directory), flushed and synced, opened again and checked (structure and every checksum; a
+ * compact file's blocks by their checksums, without decoding them, so that the check's memory
+ * stays bounded), and only then renamed over the target, whose directory is synced. On any failure
+ * (a full disk, a write error, a failed check) only the temporary file is removed: an existing
+ * target is left byte for byte as it was. Because the target is replaced by a rename and never
+ * rewritten in place, a program that has the old file mapped keeps reading the old file's bytes.
  *
  * `path` may name a new file, an existing regular file (its permissions are kept), or a symbolic
  * link to either (the link stays and its target is replaced). Anything else (a directory, a
@@ -212,8 +213,10 @@ struct OctreeFile
  * touches the whole file). `mapFile` false reads the file into memory instead of mapping it. The
  * compressed arrays of a compact file are decoded into memory (their blocks run through
  * `parallel`, serially when it is empty) and their checksums are always verified; an array
- * stored as it is stays in the map. False with `error` set (what is wrong, and where) on a
- * missing, truncated, corrupt or foreign file.
+ * stored as it is stays in the map. A compact file whose decoded arrays would take more than
+ * three quarters of the machine's memory is refused (ConvertOctreeFile makes a mapped copy in
+ * bounded memory). False with `error` set (what is wrong, and where) on a missing, truncated,
+ * corrupt or foreign file.
  */
 bool OpenOctreeFile(const std::string& path, bool verifyChecksums, bool mapFile, OctreeFile& out,
   std::string* error, const ParallelFor& parallel = ParallelFor());
