@@ -14,10 +14,9 @@ import argparse
 import math
 import statistics
 
-from vtkmodules.vtkRenderingCore import vtkCamera
+from plod_views import look, selection_pipeline
 
-from perceptual_lod import (vtkMultiscaleOctreeReader, vtkMultiscalePatchGenerator,
-                            vtkPerceptualLODSelector)
+from perceptual_lod import vtkMultiscaleOctreeReader
 
 # the eye's distance from the root cube's centre, in root edges
 DISTANCES = {'far': 5.6, 'mid': 1.9, 'close': 0.85}
@@ -42,29 +41,13 @@ def main():
     centre = [0.5 * (bounds[2 * a] + bounds[2 * a + 1]) for a in range(3)]
     distance = DISTANCES[args.view] * (bounds[1] - bounds[0])
 
-    selector = vtkPerceptualLODSelector()
-    selector.SetInputConnection(reader.GetOutputPort())
-    selector.SetTriangleBudget(args.budget)
-    selector.SetExactTriangleBudget(args.exact)
-    selector.SetViewportSize(1920, 1080)
-    selector.AddLight(False, 0, 0, 1, 1, 0)
-    patches = vtkMultiscalePatchGenerator()
-    patches.SetInputConnection(selector.GetOutputPort())
+    selector, patches = selection_pipeline(reader.GetOutputPort(), args.budget, args.exact)
 
     patch_ms, select_ms, triangles = [], [], []
     for frame in range(args.frames):
         a = math.radians(args.step * frame)
         eye = (centre[0] + distance * math.sin(a), centre[1], centre[2] + distance * math.cos(a))
-        camera = vtkCamera()
-        camera.SetFocalPoint(centre)
-        camera.SetPosition(eye)
-        camera.SetViewAngle(30)
-        camera.SetClippingRange(distance * 0.01, distance * 10)
-        planes = [0.0] * 24
-        camera.GetFrustumPlanes(1920 / 1080, planes)
-        selector.SetEyePosition(eye)
-        selector.SetFrustumPlanes(planes)
-        selector.SetLight(0, False, *eye, 1, 0)
+        look(selector, eye, centre, distance)
         patches.Update()
         if frame >= 2:
             patch_ms.append(patches.GetGenerateTime() * 1e3)

@@ -24,10 +24,9 @@ import resource
 import statistics
 import time
 
-from vtkmodules.vtkRenderingCore import vtkCamera
+from plod_views import look, selection_pipeline
 
-from perceptual_lod import (vtkMultiscaleOctreeReader, vtkMultiscalePatchGenerator,
-                            vtkPerceptualLODSelector)
+from perceptual_lod import vtkMultiscaleOctreeReader
 
 PAGE = os.sysconf('SC_PAGE_SIZE')
 
@@ -97,13 +96,7 @@ def main():
     octree.GetNodeBounds(last, cell)
     closest = 4 * (cell[1] - cell[0]) / edge
 
-    selector = vtkPerceptualLODSelector()
-    selector.SetInputConnection(reader.GetOutputPort())
-    selector.SetTriangleBudget(args.budget)
-    selector.SetViewportSize(1920, 1080)
-    selector.AddLight(False, 0, 0, 1, 1, 0)
-    patches = vtkMultiscalePatchGenerator()
-    patches.SetInputConnection(selector.GetOutputPort())
+    selector, patches = selection_pipeline(reader.GetOutputPort(), args.budget)
 
     rows = []
     for k, (azimuth, distance, zoomed) in enumerate(flight(args.frames, closest)):
@@ -111,16 +104,7 @@ def main():
         d = distance * edge
         focus = target if zoomed else centre
         eye = (focus[0] + d * math.sin(a), focus[1], focus[2] + d * math.cos(a))
-        camera = vtkCamera()
-        camera.SetFocalPoint(focus)
-        camera.SetPosition(eye)
-        camera.SetViewAngle(30)
-        camera.SetClippingRange(d * 0.01, d * 10)
-        planes = [0.0] * 24
-        camera.GetFrustumPlanes(1920 / 1080, planes)
-        selector.SetEyePosition(eye)
-        selector.SetFrustumPlanes(planes)
-        selector.SetLight(0, False, *eye, 1, 0)
+        look(selector, eye, focus, d)
         before = major_faults()
         t = time.perf_counter()
         patches.Update()

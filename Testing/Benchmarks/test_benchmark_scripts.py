@@ -1,0 +1,61 @@
+"""The Python benchmark scripts run: on a small octree file, each one a few frames or one
+repeat, exit 0 and print the lines docs/benchmarks.md quotes (so that a change of API does not
+leave them broken until the next measurement). Figures are not checked: speed is measured, not
+tested."""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+from vtkmodules.vtkFiltersSources import vtkSphereSource
+
+from perceptual_lod import vtkMultiscaleOctreeBuilder, vtkMultiscaleOctreeWriter
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+class BenchmarkScriptsTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.folder = tempfile.TemporaryDirectory(prefix='plod_bench_')
+        cls.octree = os.path.join(cls.folder.name, 'sphere.plod')
+        sphere = vtkSphereSource()
+        sphere.SetThetaResolution(60)
+        sphere.SetPhiResolution(60)
+        builder = vtkMultiscaleOctreeBuilder()
+        builder.SetInputConnection(sphere.GetOutputPort())
+        writer = vtkMultiscaleOctreeWriter()
+        writer.SetInputConnection(builder.GetOutputPort())
+        writer.SetFileName(cls.octree)
+        assert writer.Write() == 1, writer.GetErrorMessage()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.folder.cleanup()
+
+    def run_script(self, *args):
+        done = subprocess.run([sys.executable, os.path.join(HERE, args[0])] + list(args[1:]),
+                              capture_output=True, text=True, env=dict(os.environ))
+        self.assertEqual(done.returncode, 0, done.stderr)
+        return done.stdout
+
+    def test_flight(self):
+        out = self.run_script('plod_flight.py', self.octree, '--frames', '6')
+        self.assertIn('first frame', out)
+        self.assertIn('resident MiB over the flight', out)
+
+    def test_orbit(self):
+        out = self.run_script('patches_orbit.py', self.octree, '--frames', '4', '--budget',
+                              '500', '--exact')
+        self.assertIn('patches median', out)
+
+    def test_file_layouts(self):
+        out = self.run_script('file_layouts.py', self.octree, '--repeats', '1', '--tmp',
+                              self.folder.name)
+        self.assertIn('| mapped |', out)
+        self.assertIn('| compact |', out)
+
+
+if __name__ == '__main__':
+    unittest.main()
