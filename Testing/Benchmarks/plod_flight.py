@@ -36,6 +36,17 @@ def resident_mib():
         return int(f.read().split()[1]) * PAGE / 2 ** 20
 
 
+def resident_kinds_mib():
+    """(file-backed, anonymous) resident MiB of this process (/proc/self/status): the mapped
+    octree's pages against the arrays the filters allocate (and the interpreter's own)."""
+    kinds = {}
+    with open('/proc/self/status') as f:
+        for line in f:
+            if line.startswith(('RssFile:', 'RssAnon:')):
+                kinds[line.split(':')[0]] = int(line.split()[1]) / 1024
+    return kinds.get('RssFile', 0.0), kinds.get('RssAnon', 0.0)
+
+
 def major_faults():
     return resource.getrusage(resource.RUSAGE_SELF).ru_majflt
 
@@ -113,6 +124,7 @@ def main():
                          triangles=patches.GetNumberOfTriangles(),
                          major_faults=major_faults() - before, resident_mib=resident_mib()))
 
+    file_mib, anonymous_mib = resident_kinds_mib()  # at the last frame
     if args.csv:
         with open(args.csv, 'w', newline='') as f:
             w = csv.DictWriter(f, list(rows[0]))
@@ -134,6 +146,8 @@ def main():
     rss = [r['resident_mib'] for r in rows]
     print(f'resident MiB over the flight: {min(rss):.0f} min, {statistics.median(rss):.0f} median, '
           f'{max(rss):.0f} max; major faults in all {major_faults() - faults0}')
+    print(f'resident at the last frame: {file_mib:.0f} MiB of files (the mapped octree, the '
+          f'libraries), {anonymous_mib:.0f} MiB anonymous (the filters\' arrays, Python, VTK)')
 
 
 if __name__ == '__main__':

@@ -44,6 +44,7 @@ class BenchmarkScriptsTest(unittest.TestCase):
         out = self.run_script('plod_flight.py', self.octree, '--frames', '6')
         self.assertIn('first frame', out)
         self.assertIn('resident MiB over the flight', out)
+        self.assertIn('resident at the last frame', out)
 
     def test_orbit(self):
         out = self.run_script('patches_orbit.py', self.octree, '--frames', '4', '--budget',
