@@ -94,7 +94,9 @@ def run(cmd, cwd, log, timeout=None, env=None):
 
 def sync(work):
     """Copies the files git knows (working-tree contents) into work/src, touching only the files
-    that differ, so that the copy's build stays incremental."""
+    that differ, so that the copy's build stays incremental. A file copied gets the time of the
+    copy, not the original's: a run stopped mid-mutation leaves the copy's objects built from the
+    mutated file, newer than the original, and only a newer time makes the build redo them."""
     src = os.path.join(work, 'src')
     files = subprocess.run(['git', 'ls-files', '-co', '--exclude-standard'], cwd=ROOT,
                            stdout=subprocess.PIPE, text=True, check=True).stdout.split('\n')
@@ -107,7 +109,7 @@ def sync(work):
         if os.path.exists(b) and open(a, 'rb').read() == open(b, 'rb').read():
             continue
         os.makedirs(os.path.dirname(b), exist_ok=True)
-        shutil.copy2(a, b)
+        shutil.copy(a, b)
     return src
 
 
