@@ -173,6 +173,22 @@ void ExpectSameValues(const std::vector<plod::FileArray>& expected, const plod::
   }
 }
 
+/// Makes the header checksum of a file of `arrays` arrays agree with its bytes again (FNV-1a
+/// over the header and directory, the checksum field counted as 0, folded to 32 bits), so that
+/// damage made on purpose gets past the header.
+void ResumHeader(std::vector<char>& b, size_t arrays)
+{
+  std::vector<unsigned char> head(b.begin(), b.begin() + 128 + 64 * arrays);
+  std::fill(head.begin() + 120, head.begin() + 124, 0);
+  uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : head)
+  {
+    h = (h ^ c) * 1099511628211ull;
+  }
+  const uint32_t sum = static_cast<uint32_t>(h ^ (h >> 32));
+  std::memcpy(&b[120], &sum, 4);
+}
+
 /// Runs the ranges last to first, one value at a time (as threads might finish).
 void BackwardsFor(int64_t n, int64_t, const std::function<void(int64_t, int64_t)>& body)
 {
@@ -306,48 +322,18 @@ TEST(OctreeFile, DamagedCompactArraysAreRefusedOnEveryOpen)
     // the block's frame declares its content size; change one byte of the frame header
     b[at + 12 + 4 + 1] ^= 0x01;
     // recompute the array's checksum (blocks, then table) and the header's
-    auto fnv = [](uint64_t h, const unsigned char* p, size_t n) {
-      size_t i = 0;
-      for (; i + 8 <= n; i += 8)
-      {
-        uint64_t w;
-        std::memcpy(&w, p + i, 8);
-        h = (h ^ w) * 1099511628211ull;
-      }
-      for (; i < n; ++i)
-      {
-        h = (h ^ p[i]) * 1099511628211ull;
-      }
-      return h;
-    };
     std::vector<unsigned char> stream(b.begin() + at + 12, b.begin() + at + 12 + size);
     stream.insert(stream.end(), b.begin() + at, b.begin() + at + 12);
-    const uint64_t sum = fnv(14695981039346656037ull, stream.data(), stream.size());
+    const uint64_t sum = plod::FileChecksum(stream.data(), stream.size());
     std::memcpy(&b[128 + 64 * 6 + 56], &sum, 8);
-    const size_t headerSize = 128 + 64 * 7;
-    uint64_t h = 14695981039346656037ull;
-    for (size_t i = 0; i < headerSize; ++i)
-    {
-      const unsigned char c = (i >= 120 && i < 124) ? 0 : static_cast<unsigned char>(b[i]);
-      h = (h ^ c) * 1099511628211ull;
-    }
-    const uint32_t headerSum = static_cast<uint32_t>(h ^ (h >> 32));
-    std::memcpy(&b[120], &headerSum, 4);
+    ResumHeader(b, 7);
     refused(b, "'Node' is corrupt (block 0");
   }
   // an unknown encoding (the header's checksum made to agree)
   {
     std::vector<char> b = bytes;
     b[128 + 64 * 3 + 36] = 7;
-    const size_t headerSize = 128 + 64 * 7;
-    uint64_t h = 14695981039346656037ull;
-    for (size_t i = 0; i < headerSize; ++i)
-    {
-      const unsigned char c = (i >= 120 && i < 124) ? 0 : static_cast<unsigned char>(b[i]);
-      h = (h ^ c) * 1099511628211ull;
-    }
-    const uint32_t headerSum = static_cast<uint32_t>(h ^ (h >> 32));
-    std::memcpy(&b[120], &headerSum, 4);
+    ResumHeader(b, 7);
     refused(b, "unknown encoding");
   }
   // truncated inside the last array
