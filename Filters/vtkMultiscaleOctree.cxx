@@ -5,6 +5,7 @@
 #include "plodOctree.h"
 #include "plodOctreeFile.h"
 #include "plodOctreeSchema.h"
+#include "plodResidentPages.h"
 
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -454,7 +455,66 @@ struct vtkMultiscaleOctree::SourceFileState
 {
   std::shared_ptr<const plod::FileIdentity> File;
   bool WarnedReplaced = false;
+  // the mapped bytes and the limit on their resident pages (SetMappedPages)
+  std::shared_ptr<void> Memory;
+  void* Start = nullptr;
+  uint64_t Bytes = 0;
+  plod::ResidentLimit Resident;
+  bool WarnedResident = false;
 };
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctree::SetMappedPages(
+  std::shared_ptr<void> memory, void* start, uint64_t bytes, uint64_t limit)
+{
+  if (!this->SourceFile)
+  {
+    vtkErrorMacro("SetMappedPages needs the source file first (SetSourceFile).");
+    return;
+  }
+  this->SourceFile->Memory = std::move(memory);
+  this->SourceFile->Start = start;
+  this->SourceFile->Bytes = bytes;
+  this->SourceFile->Resident.Attach(start, bytes);
+  this->SourceFile->Resident.SetLimit(limit);
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctree::EnforceResidentLimit()
+{
+  if (!this->SourceFile || !this->SourceFile->Start)
+  {
+    return;
+  }
+  std::string why;
+  if (!this->SourceFile->Resident.Enforce(&why) && !this->SourceFile->WarnedResident)
+  {
+    this->SourceFile->WarnedResident = true;
+    vtkWarningMacro(<< "The octree file's cache limit is not kept: " << why << ".");
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkMultiscaleOctree::GetMappedResidentBytes()
+{
+  if (!this->SourceFile || !this->SourceFile->Start)
+  {
+    return -1;
+  }
+  plod::MappingResidency r;
+  if (!plod::MeasureMappingResidency(
+        this->SourceFile->Start, this->SourceFile->Bytes, false, r, nullptr))
+  {
+    return -1;
+  }
+  return static_cast<vtkIdType>(r.FileBytes + r.PrivateBytes);
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkMultiscaleOctree::GetNumberOfResidentReleases()
+{
+  return this->SourceFile ? static_cast<vtkIdType>(this->SourceFile->Resident.GetReleases()) : 0;
+}
 
 //------------------------------------------------------------------------------
 void vtkMultiscaleOctree::SetSourceFile(std::shared_ptr<const plod::FileIdentity> file)

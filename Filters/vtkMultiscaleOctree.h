@@ -320,6 +320,28 @@ public:
    * it; ShallowCopy() shares it.
    */
   void SetSourceFile(std::shared_ptr<const plod::FileIdentity> file);
+  /**
+   * The map of the source file (`bytes` from `start`, kept alive by `memory`) and the limit on
+   * how much of it this process keeps resident, in bytes (0: none; see plodResidentPages.h).
+   * Set by vtkMultiscaleOctreeReader after SetSourceFile(), from its CacheLimit; shared by
+   * shallow copies.
+   */
+  void SetMappedPages(std::shared_ptr<void> memory, void* start, uint64_t bytes, uint64_t limit);
+#endif
+  /**
+   * Keeps the mapped file's pages that this process holds within the reader's CacheLimit: when
+   * they exceed it, they are dropped (the kernel's page cache keeps them while memory allows,
+   * and the next views map again what they read). The selector and the patch generator call it
+   * after each execution; an octree that was not mapped from a file has nothing to keep. Warns
+   * once where the limit cannot be kept (no /proc/self/pagemap).
+   */
+  void EnforceResidentLimit();
+  /// How many times EnforceResidentLimit() dropped the mapped pages (0 without a limit).
+  vtkIdType GetNumberOfResidentReleases();
+  /// The bytes of the mapped file that this process holds now, counted page by page (-1 when
+  /// the octree was not mapped from a file or the pages cannot be counted).
+  vtkIdType GetMappedResidentBytes();
+#ifndef __VTK_WRAP__
   /// True unless the source file (if any) was changed in place since it was mapped; `why`
   /// says what changed.
   bool IsSourceFileIntact(std::string* why);

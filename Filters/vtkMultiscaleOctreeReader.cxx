@@ -149,6 +149,8 @@ int vtkMultiscaleOctreeReader::RequestData(
   {
     // the filters compare the file on disk with the one mapped (only a map can be hurt)
     output->SetSourceFile(std::make_shared<const plod::FileIdentity>(file.Identity));
+    output->SetMappedPages(
+      file.Memory, file.MapStart, file.Identity.Size, uint64_t(this->CacheLimit) << 20);
   }
   output->Modified();
   this->Mapped = file.Mapped;
@@ -165,6 +167,7 @@ void vtkMultiscaleOctreeReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "VerifyChecksums: " << this->VerifyChecksums << "\n";
   os << indent << "MemoryMap: " << this->MemoryMap << "\n";
+  os << indent << "CacheLimit: " << this->CacheLimit << " MiB\n";
   os << indent << "Mapped: " << this->Mapped << "\n";
   os << indent << "Compact: " << this->Compact << "\n";
   os << indent << "ReadTime: " << this->ReadTime << "\n";

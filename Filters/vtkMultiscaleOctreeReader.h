@@ -32,6 +32,12 @@
  * every filter refuse the octree with an error instead of crashing on a page past the new end.
  * The file is read again only when the reader is asked to (Modified(), or a new FileName).
  *
+ * The pages of a mapped file that the process holds are kept within CacheLimit (2048 MiB by
+ * default): when the views have mapped more, the selector and the patch generator drop them
+ * after their execution (vtkMultiscaleOctree::EnforceResidentLimit, plodResidentPages.h), and the
+ * next views map again what they read, from the kernel's page cache while memory allows. A file
+ * smaller than the limit is never trimmed.
+ *
  * A compact file (vtkMultiscaleOctreeWriter::SetCompact) is not mapped: its arrays are read and
  * decoded into memory when the file is opened, over every core, their checksums always verified
  * (the bytes are read anyway); GetCompact() tells. It then takes the memory of the whole octree
@@ -74,6 +80,16 @@ public:
   vtkBooleanMacro(MemoryMap, bool);
   ///@}
 
+  ///@{
+  /**
+   * The most of a mapped file's pages, in MiB, that the process keeps between frames (0: no
+   * limit). Default 2048. It should exceed what one view reads, or every frame maps its pages
+   * again (a triangle budget bounds what a view reads).
+   */
+  vtkSetClampMacro(CacheLimit, int, 0, VTK_INT_MAX);
+  vtkGetMacro(CacheLimit, int);
+  ///@}
+
   /// True when the last read mapped the file (false: it was read into memory).
   vtkGetMacro(Mapped, bool);
 
@@ -99,6 +115,7 @@ protected:
   char* FileName = nullptr;
   bool VerifyChecksums = false;
   bool MemoryMap = true;
+  int CacheLimit = 2048;
   bool Mapped = false;
   bool Compact = false;
   double ReadTime = 0;

@@ -262,6 +262,7 @@ int vtkMultiscalePatchGenerator::RequestData(
   {
     AddInputPointIds(v, r, output);
   }
+  input->EnforceResidentLimit(); // the pages read here, within the reader's CacheLimit
   timer->StopTimer();
   this->RecordFigures(r, timer->GetElapsedTime());
   return 1;

@@ -273,6 +273,7 @@ int vtkPerceptualLODSelector::RequestData(
   this->Select(view, viewStamp, in, stats);
   this->MakeOutput(input, in, output);
   this->ExplainEmptyCut(in, stats);
+  input->EnforceResidentLimit(); // the pages this walk mapped, within the reader's CacheLimit
   this->SelectTime =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   this->RecordFigures(stats);

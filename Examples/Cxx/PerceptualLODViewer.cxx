@@ -3,8 +3,11 @@
 //
 //   PerceptualLODViewer [model.ply|.stl|.obj|.vtp|.plod] [--offscreen] [--frames N] [--out DIR]
 //                       [--size W H] [--level L] [--mode srcc|tmm|scvc|psec|distance|ipv|dpv|fovea]
+//                       [--cache-limit MiB]
 //
 // Without a file it uses a generated detailed model (a displaced sphere, about 250k triangles).
+// An octree file is mapped; --cache-limit bounds how much of it the viewer keeps resident
+// between frames (vtkMultiscaleOctreeReader::SetCacheLimit; 0: no limit; default 2048).
 // Interactive keys:
 //   1 SRCC   2 SRCC+TMM   3 SCVC   4 PSEC   5 Distance   6 IPV   7 DPV   8 foveated
 //   0 full resolution    + / - tolerances x1.5 / /1.5    h help
@@ -284,7 +287,7 @@ int main(int argc, char* argv[])
 {
   std::string file, out = "perceptual_lod_output", modeName = "srcc";
   bool offscreen = false;
-  int frames = 90, width = 960, height = 720, level = -1;
+  int frames = 90, width = 960, height = 720, level = -1, cacheLimit = -1;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -298,6 +301,8 @@ int main(int argc, char* argv[])
       level = std::atoi(argv[++i]);
     else if (a == "--mode" && i + 1 < argc)
       modeName = argv[++i];
+    else if (a == "--cache-limit" && i + 1 < argc)
+      cacheLimit = std::max(0, std::atoi(argv[++i]));
     else if (a == "--size" && i + 2 < argc)
     {
       width = std::atoi(argv[++i]);
@@ -306,7 +311,8 @@ int main(int argc, char* argv[])
     else if (a == "-h" || a == "--help")
     {
       std::printf("usage: %s [model] [--offscreen] [--frames N] [--out DIR] [--size W H] "
-                  "[--level L] [--mode srcc|tmm|scvc|psec|distance|ipv|dpv|fovea]\n",
+                  "[--level L] [--mode srcc|tmm|scvc|psec|distance|ipv|dpv|fovea] "
+                  "[--cache-limit MiB]\n",
         argv[0]);
       return 0;
     }
@@ -321,6 +327,10 @@ int main(int argc, char* argv[])
   if (octreeFile)
   {
     reader->SetFileName(file.c_str());
+    if (cacheLimit >= 0)
+    {
+      reader->SetCacheLimit(cacheLimit);
+    }
     reader->Update();
     if (reader->GetOutput()->GetNumberOfNodes() == 0)
     {
@@ -531,6 +541,14 @@ int main(int argc, char* argv[])
     std::printf("frame time, medians: LOD %.1f ms, full resolution %.1f ms (%.1fx faster)\n",
       median(lodTimes), median(fullTimes),
       median(lodTimes) > 0 ? median(fullTimes) / median(lodTimes) : 0.0);
+  }
+  if (octreeFile && reader->GetMapped())
+  {
+    vtkMultiscaleOctree* octree = reader->GetOutput();
+    std::printf("mapped octree: cache limit %d MiB, %.1f MiB resident at the end, dropped %lld "
+                "times\n",
+      reader->GetCacheLimit(), double(octree->GetMappedResidentBytes()) / 1048576.0,
+      static_cast<long long>(octree->GetNumberOfResidentReleases()));
   }
   std::printf("wrote %s/frames.csv and PNG frames\n", out.c_str());
   return 0;

@@ -1368,6 +1368,7 @@ bool OpenFile(const std::string& path, bool verifyChecksums, bool mapFile, bool 
   {
     return Fail(error, where + why);
   }
+  out.MapStart = out.Mapped ? memory.get() : nullptr;
   unsigned char* bytes = static_cast<unsigned char*>(memory.get());
   uint32_t count = 0, version = 0;
   why = ReadHeader(bytes, size, out.Header, count, version);

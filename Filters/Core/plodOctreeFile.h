@@ -204,6 +204,7 @@ struct OctreeFile
   std::vector<FileArray> Arrays;
   std::shared_ptr<void> Memory; // keeps the mapping (or buffer) alive
   bool Mapped = false;          // true when Data point into a memory map of the file
+  void* MapStart = nullptr;     // the map's first byte (the file's), when Mapped
   bool Compact = false;         // true when arrays were compressed (decoded into memory)
   FileIdentity Identity;        // the file that was opened, as it was then
 };

@@ -16,6 +16,7 @@ set(plod_core_sources
   plodPieces.cxx
   plodPLYCheck.cxx
   plodPLYRead.cxx
+  plodResidentPages.cxx
   plodSelector.cxx
   plodViewModel.cxx)
 set(plod_core_headers
@@ -40,5 +41,6 @@ set(plod_core_headers
   plodPLYCheck.h
   plodPLYIO.h
   plodPLYRead.h
+  plodResidentPages.h
   plodSelector.h
   plodViewModel.h)

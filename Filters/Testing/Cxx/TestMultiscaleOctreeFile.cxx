@@ -18,12 +18,15 @@
 #include "vtkNew.h"
 #include "vtkPerceptualLODSelector.h"
 #include "vtkPointData.h"
+#include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -856,4 +859,87 @@ TEST(MultiscaleOctreeFile, CompactFileOfAScanIsLosslessAndSmall)
   {
     std::remove(p.c_str());
   }
+}
+
+TEST(MultiscaleOctreeFile, CacheLimitKeepsTheMappedPagesWithinIt)
+{
+  // A flight over a mapped file larger than the reader's CacheLimit: after every frame (the
+  // selector and the patch generator), the pages of the file the process holds are within the
+  // limit, and every frame draws what it draws without a limit, point for point. Without a
+  // limit, the same flight holds more than it; with one above the file, nothing is dropped.
+  std::FILE* pagemap = std::fopen("/proc/self/pagemap", "rb");
+  if (!pagemap)
+    GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
+  std::fclose(pagemap);
+  auto octree = BuildOctree(160);
+  const std::string path = TempPath("cachelimit.plod");
+  ASSERT_TRUE(Write(octree, path));
+  const vtkIdType fileBytes = static_cast<vtkIdType>(ReadBytes(path).size());
+  ASSERT_GT(fileBytes, 3 << 20) << "the model should make a file of several MiB";
+  struct Flight
+  {
+    std::vector<vtkSmartPointer<vtkPolyData>> Frames;
+    vtkIdType MostResident = 0;
+    vtkIdType Releases = 0;
+  };
+  const auto fly = [&](int limitMiB) {
+    Flight f;
+    vtkNew<vtkMultiscaleOctreeReader> reader;
+    reader->SetFileName(path.c_str());
+    reader->SetCacheLimit(limitMiB);
+    vtkNew<vtkPerceptualLODSelector> selector;
+    vtkNew<vtkMultiscalePatchGenerator> patches;
+    selector->SetInputConnection(reader->GetOutputPort());
+    patches->SetInputConnection(selector->GetOutputPort());
+    selector->SetViewportSize(1920, 1080);
+    selector->ScaleTolerances(0.25);
+    for (int k = 0; k < 12; ++k)
+    {
+      const double a = 0.6 * k, d = 1.5 + 1.5 * (11 - k) / 11.0; // an orbit closing in
+      selector->SetEyePosition(d * std::sin(a), 0.3 * d, d * std::cos(a));
+      patches->Update();
+      EXPECT_TRUE(reader->GetMapped());
+      const vtkIdType resident = reader->GetOutput()->GetMappedResidentBytes();
+      EXPECT_GE(resident, 0);
+      f.MostResident = std::max(f.MostResident, resident);
+      if (limitMiB > 0)
+      {
+        EXPECT_LE(resident, vtkIdType(limitMiB) << 20) << "frame " << k;
+      }
+      auto frame = vtkSmartPointer<vtkPolyData>::New();
+      frame->DeepCopy(patches->GetOutput());
+      f.Frames.push_back(frame);
+    }
+    f.Releases = reader->GetOutput()->GetNumberOfResidentReleases();
+    return f;
+  };
+  const Flight free = fly(0);
+  ASSERT_GT(free.MostResident, 2 << 20) << "the flight should read more than the limit tried";
+  EXPECT_EQ(free.Releases, 0);
+  const Flight limited = fly(2);
+  EXPECT_GT(limited.Releases, 0);
+  const Flight above = fly(int(fileBytes >> 20) + 1);
+  EXPECT_EQ(above.Releases, 0);
+  for (size_t k = 0; k < free.Frames.size(); ++k)
+  {
+    for (const Flight* other : { &limited, &above })
+    {
+      vtkPolyData* a = free.Frames[k];
+      vtkPolyData* b = other->Frames[k];
+      ASSERT_GT(a->GetNumberOfPolys(), 0) << "frame " << k;
+      ASSERT_EQ(a->GetNumberOfPolys(), b->GetNumberOfPolys()) << "frame " << k;
+      ASSERT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints()) << "frame " << k;
+      auto* pa = vtkFloatArray::SafeDownCast(a->GetPoints()->GetData());
+      auto* pb = vtkFloatArray::SafeDownCast(b->GetPoints()->GetData());
+      ASSERT_TRUE(pa && pb);
+      EXPECT_EQ(std::memcmp(pa->GetPointer(0), pb->GetPointer(0),
+                  size_t(3 * a->GetNumberOfPoints()) * sizeof(float)),
+        0)
+        << "frame " << k;
+    }
+  }
+  std::cout << "file " << (fileBytes >> 10) << " KiB; without a limit the flight held up to "
+            << (free.MostResident >> 10) << " KiB; with 2 MiB, " << limited.Releases
+            << " releases\n";
+  std::remove(path.c_str());
 }

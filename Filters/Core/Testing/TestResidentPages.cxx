@@ -1,0 +1,183 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The bound on a mapped file's resident pages (plodResidentPages): the pages a process holds of a
+// mapping are counted page by page (file pages apart from written ones), dropping them keeps the
+// bytes and every edit, and ResidentLimit drops them exactly when they exceed its limit.
+#include "plodResidentPages.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+namespace
+{
+/// A file of `pages` pages whose every 8-byte word holds its own index, mapped copy-on-write as
+/// the octree reader maps (read and write, private).
+struct MappedFile
+{
+  std::string Path;
+  uint64_t Bytes = 0;
+  uint64_t Page = 0;
+  char* Data = nullptr;
+
+  explicit MappedFile(uint64_t pages)
+  {
+    this->Page = uint64_t(::sysconf(_SC_PAGESIZE));
+    this->Bytes = pages * this->Page;
+    this->Path = ::testing::TempDir() + "plod_resident_" + std::to_string(::getpid());
+    {
+      std::vector<uint64_t> words(this->Bytes / 8);
+      for (uint64_t i = 0; i < words.size(); ++i)
+        words[i] = i;
+      std::ofstream out(this->Path, std::ios::binary | std::ios::trunc);
+      out.write(reinterpret_cast<const char*>(words.data()), std::streamsize(this->Bytes));
+    }
+    const int fd = ::open(this->Path.c_str(), O_RDONLY);
+    void* p = ::mmap(nullptr, this->Bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE, fd, 0);
+    ::close(fd);
+    this->Data = p == MAP_FAILED ? nullptr : static_cast<char*>(p);
+  }
+  ~MappedFile()
+  {
+    if (this->Data)
+      ::munmap(this->Data, this->Bytes);
+    std::remove(this->Path.c_str());
+  }
+  /// Reads one word of each page in [first, first + count): the sum of their values.
+  uint64_t Touch(uint64_t first, uint64_t count) const
+  {
+    uint64_t sum = 0;
+    for (uint64_t p = first; p < first + count; ++p)
+      sum += *reinterpret_cast<const volatile uint64_t*>(this->Data + p * this->Page);
+    return sum;
+  }
+  plod::MappingResidency Measure(bool release = false) const
+  {
+    plod::MappingResidency r;
+    std::string why;
+    EXPECT_TRUE(plod::MeasureMappingResidency(this->Data, this->Bytes, release, r, &why)) << why;
+    return r;
+  }
+};
+
+bool PageMapReadable()
+{
+  std::FILE* f = std::fopen("/proc/self/pagemap", "rb");
+  if (f)
+    std::fclose(f);
+  return f != nullptr;
+}
+} // namespace
+
+TEST(ResidentPages, CountsAndDropsFilePagesKeepingEdits)
+{
+  if (!PageMapReadable())
+    GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
+  MappedFile f(256);
+  ASSERT_NE(f.Data, nullptr);
+  f.Measure(true); // whatever writing the file left mapped (nothing: it was written, not mapped)
+  EXPECT_EQ(f.Measure().FileBytes, 0u);
+  // every page read: all present, none written
+  const uint64_t wordsPerPage = f.Page / 8;
+  uint64_t expected = 0;
+  for (uint64_t p = 0; p < 256; ++p)
+    expected += p * wordsPerPage;
+  EXPECT_EQ(f.Touch(0, 256), expected);
+  plod::MappingResidency r = f.Measure();
+  EXPECT_EQ(r.FileBytes, f.Bytes);
+  EXPECT_EQ(r.PrivateBytes, 0u);
+  // two pages written: private copies, no longer file pages
+  reinterpret_cast<uint64_t*>(f.Data + 10 * f.Page)[3] = 777;
+  reinterpret_cast<uint64_t*>(f.Data + 200 * f.Page)[0] = 888;
+  r = f.Measure();
+  EXPECT_EQ(r.FileBytes, f.Bytes - 2 * f.Page);
+  EXPECT_EQ(r.PrivateBytes, 2 * f.Page);
+  // dropped: the count is the one before, then only the written pages remain
+  r = f.Measure(true);
+  EXPECT_EQ(r.FileBytes, f.Bytes - 2 * f.Page);
+  r = f.Measure();
+  EXPECT_EQ(r.FileBytes, 0u);
+  EXPECT_EQ(r.PrivateBytes, 2 * f.Page);
+  // the bytes read again are the file's, and the edits are kept
+  EXPECT_EQ(reinterpret_cast<const uint64_t*>(f.Data + 10 * f.Page)[3], 777u);
+  EXPECT_EQ(reinterpret_cast<const uint64_t*>(f.Data + 200 * f.Page)[0], 888u);
+  EXPECT_EQ(reinterpret_cast<const uint64_t*>(f.Data + 10 * f.Page)[4], 10 * wordsPerPage + 4);
+  EXPECT_EQ(f.Touch(0, 256), expected - 200 * wordsPerPage + 888);
+  EXPECT_EQ(f.Measure().FileBytes, f.Bytes - 2 * f.Page);
+}
+
+TEST(ResidentPages, LimitDropsPagesOnlyAboveIt)
+{
+  // How many pages one read maps depends on the kernel (fault-around, large folios of the page
+  // cache): the limits are set from what is counted present, to the page.
+  if (!PageMapReadable())
+    GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
+  MappedFile f(4096);
+  ASSERT_NE(f.Data, nullptr);
+  f.Measure(true);
+  plod::ResidentLimit limit;
+  limit.Attach(f.Data, f.Bytes);
+  std::string why;
+  // no limit: nothing dropped whatever is read
+  f.Touch(0, 4096);
+  EXPECT_TRUE(limit.Enforce(&why)) << why;
+  EXPECT_EQ(limit.GetReleases(), 0u);
+  EXPECT_EQ(f.Measure().FileBytes, f.Bytes);
+  f.Measure(true);
+  // a quarter of the file read, the limit exactly what is present: kept
+  f.Touch(0, 1024);
+  const uint64_t present = f.Measure().FileBytes;
+  ASSERT_GE(present, 1024 * f.Page);
+  ASSERT_LT(present, f.Bytes);
+  limit.SetLimit(present);
+  EXPECT_TRUE(limit.Enforce(&why)) << why;
+  EXPECT_EQ(limit.GetReleases(), 0u);
+  EXPECT_EQ(f.Measure().FileBytes, present);
+  EXPECT_EQ(limit.GetLastCountedBytes(), present);
+  // one page less: dropped, all of them
+  limit.SetLimit(present - f.Page);
+  EXPECT_TRUE(limit.Enforce(&why)) << why;
+  EXPECT_EQ(limit.GetReleases(), 1u);
+  EXPECT_EQ(limit.GetReleasedBytes(), present);
+  EXPECT_EQ(f.Measure().FileBytes, 0u);
+  // under the limit again (the cheap check from the process's figures): nothing dropped
+  f.Touch(0, 16);
+  const uint64_t few = f.Measure().FileBytes;
+  ASSERT_LE(few, limit.GetLimit());
+  EXPECT_TRUE(limit.Enforce(&why)) << why;
+  EXPECT_EQ(limit.GetReleases(), 1u);
+  EXPECT_EQ(f.Measure().FileBytes, few);
+  // everything read: over the limit, dropped again, and the bytes read again are the file's
+  const uint64_t wordsPerPage = f.Page / 8;
+  uint64_t expected = 0;
+  for (uint64_t p = 0; p < 4096; ++p)
+    expected += p * wordsPerPage;
+  EXPECT_EQ(f.Touch(0, 4096), expected);
+  EXPECT_TRUE(limit.Enforce(&why)) << why;
+  EXPECT_EQ(limit.GetReleases(), 2u);
+  EXPECT_EQ(limit.GetReleasedBytes(), present + f.Bytes);
+  EXPECT_EQ(f.Measure().FileBytes, 0u);
+  EXPECT_EQ(f.Touch(0, 4096), expected);
+}
+
+TEST(ResidentPages, NothingToKeepWithoutAMapping)
+{
+  plod::ResidentLimit limit;
+  limit.SetLimit(4096);
+  std::string why;
+  EXPECT_TRUE(limit.Enforce(&why));
+  EXPECT_EQ(limit.GetReleases(), 0u);
+  plod::MappingResidency r;
+  int unaligned[4];
+  EXPECT_FALSE(plod::MeasureMappingResidency(unaligned + 1, 8, false, r, &why));
+  EXPECT_NE(why.find("page"), std::string::npos) << why;
+  EXPECT_GE(plod::ProcessFileResidentBytes(), 0);
+}
