@@ -5,10 +5,14 @@ frustum; the zoom ends four finest cells from a surface point) and vtkMultiscale
 work and its waits on the disk).
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
-        Testing/Benchmarks/plod_flight.py model.plod [--frames 300] [--budget 0] [--csv out.csv]
+        Testing/Benchmarks/plod_flight.py model.plod [--frames 300] [--budget 0] \\
+        [--cache-limit MiB] [--csv out.csv]
 
 Per frame: milliseconds (select + patches), the major page faults taken during it (a fault the
-page cache could not serve: the frame waited on the disk), the process's resident memory. The
+page cache could not serve: the frame waited on the disk), the process's resident memory and
+how much of it is the mapped octree (counted page by page after the frame, outside its time;
+the reader's CacheLimit bounds it: --cache-limit, 0 for none, the reader's default if not
+given), and how many times the limit dropped the mapped pages. The
 file's pages are dropped from the page cache first (posix_fadvise DONTNEED, which needs no
 privilege), so the first frame reads from the disk; the octree file is mapped (version 1), so
 its pages come and go as the kernel decides. Prints the first frame, the medians and maxima of
@@ -83,6 +87,8 @@ def main():
     ap.add_argument('octree')
     ap.add_argument('--frames', type=int, default=300)
     ap.add_argument('--budget', type=int, default=0, help='triangle budget (0: none)')
+    ap.add_argument('--cache-limit', type=int, default=None,
+                    help="the reader's CacheLimit in MiB (0: none; default: the reader's)")
     ap.add_argument('--csv', help='per-frame figures')
     args = ap.parse_args()
 
@@ -91,6 +97,8 @@ def main():
     t0 = time.perf_counter()
     reader = vtkMultiscaleOctreeReader()
     reader.SetFileName(args.octree)
+    if args.cache_limit is not None:
+        reader.SetCacheLimit(args.cache_limit)
     reader.Update()
     open_ms = (time.perf_counter() - t0) * 1e3
     bounds = [0.0] * 6
@@ -122,7 +130,9 @@ def main():
         ms = (time.perf_counter() - t) * 1e3
         rows.append(dict(frame=k, azimuth=azimuth, distance=distance, ms=ms,
                          triangles=patches.GetNumberOfTriangles(),
-                         major_faults=major_faults() - before, resident_mib=resident_mib()))
+                         major_faults=major_faults() - before, resident_mib=resident_mib(),
+                         mapped_mib=octree.GetMappedResidentBytes() / 2 ** 20,
+                         releases=octree.GetNumberOfResidentReleases()))
 
     file_mib, anonymous_mib = resident_kinds_mib()  # at the last frame
     if args.csv:
@@ -146,6 +156,12 @@ def main():
     rss = [r['resident_mib'] for r in rows]
     print(f'resident MiB over the flight: {min(rss):.0f} min, {statistics.median(rss):.0f} median, '
           f'{max(rss):.0f} max; major faults in all {major_faults() - faults0}')
+    mapped = [r['mapped_mib'] for r in rows]
+    print(f'the mapped octree resident (MiB, after each frame; CacheLimit '
+          f'{reader.GetCacheLimit()} MiB): {min(mapped):.0f} min, {statistics.median(mapped):.0f} '
+          f'median, {max(mapped):.0f} max; dropped {rows[-1]["releases"]} times, in '
+          f'{sum(r["releases"] > p for r, p in zip(rows, [0] + [q["releases"] for q in rows]))}'
+          f' frames')
     print(f'resident at the last frame: {file_mib:.0f} MiB of files (the mapped octree, the '
           f'libraries), {anonymous_mib:.0f} MiB anonymous (the filters\' arrays, Python, VTK)')
 

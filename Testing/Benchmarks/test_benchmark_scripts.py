@@ -41,8 +41,10 @@ class BenchmarkScriptsTest(unittest.TestCase):
         return done.stdout
 
     def test_flight(self):
-        out = self.run_script('plod_flight.py', self.octree, '--frames', '6')
+        out = self.run_script('plod_flight.py', self.octree, '--frames', '6', '--cache-limit',
+                              '1')
         self.assertIn('first frame', out)
+        self.assertIn('the mapped octree resident', out)
         self.assertIn('resident MiB over the flight', out)
         self.assertIn('resident at the last frame', out)
 
