@@ -169,7 +169,8 @@ private:
       Fail(error, "a triangle refers to point " + std::to_string(p) + ", outside the surface");
       return Invalid;
     }
-    int64_t c = this->RememberedCutCluster(p);
+    int32_t* slot = this->Remembered ? this->Remembered + p : nullptr;
+    int64_t c = this->RememberedCutCluster(p, slot);
     int64_t n = c >= 0 && c < v.NumberOfClusters ? v.ClusterNode[c] : -1;
     while (n >= 0 && n < v.NumberOfNodes && this->State[n] == NotInCut)
     {
@@ -192,7 +193,8 @@ private:
       Fail(error, "node " + std::to_string(n) + " is in the cut below another cut node");
       return Invalid;
     }
-    this->Remember(p, c);
+    if (slot && __atomic_load_n(slot, __ATOMIC_RELAXED) != c + 1)
+      __atomic_store_n(slot, static_cast<int32_t>(c + 1), __ATOMIC_RELAXED); // remembered
     const uint8_t s = this->State[n];
     drawn = IsDrawnState(s);
     if (s == CutHidden)
@@ -204,19 +206,20 @@ private:
   }
 
   /**
-   * Where point p's walk starts: the cluster its last walk ended at, when that cluster's node
+   * Where point p's walk starts (`slot`: its entry in the remembered walks, or null): the
+   * cluster its last walk ended at, when that cluster's node
    * is a cut node the walk from the root reached (then it is p's representative: a valid cut has
    * one node on each path from the root, and the remembered cluster is an ancestor-or-self of p's
    * leaf cluster); else p's leaf cluster. Ranges decided in parallel share points, so the
    * remembered clusters are read and written atomically (relaxed: any value one of them wrote is
    * right).
    */
-  int64_t RememberedCutCluster(int32_t p) const
+  int64_t RememberedCutCluster(int32_t p, const int32_t* slot) const
   {
     const OctreeView& v = this->V;
-    if (this->Remembered)
+    if (slot)
     {
-      const int64_t c = __atomic_load_n(&this->Remembered[p], __ATOMIC_RELAXED);
+      const int64_t c = int64_t(__atomic_load_n(slot, __ATOMIC_RELAXED)) - 1;
       const int64_t n = c >= 0 && c < v.NumberOfClusters ? v.ClusterNode[c] : -1;
       if (n >= 0 && n < v.NumberOfNodes && this->Reached[n]) // (reached: a cut node)
         return c;
@@ -224,16 +227,10 @@ private:
     return v.PointCluster[p];
   }
 
-  void Remember(int32_t p, int64_t c) const
-  {
-    if (this->Remembered && __atomic_load_n(&this->Remembered[p], __ATOMIC_RELAXED) != c)
-      __atomic_store_n(&this->Remembered[p], static_cast<int32_t>(c), __ATOMIC_RELAXED);
-  }
-
   const OctreeView& V;
   const uint8_t* State;
   const uint8_t* CullMask;
-  const uint8_t* Reached;
+  const uint8_t* Reached; // read only here: its pages are given memory where the walk writes
   const PatchOptions& Options;
   int32_t* Remembered;
 };
@@ -247,7 +244,8 @@ int32_t* RememberedWalks(const OctreeView& v, const PatchOptions& options, Patch
   if (ws.CutClusterStamp != options.OctreeStamp ||
     static_cast<int64_t>(ws.CutCluster.size()) != v.NumberOfPoints)
   {
-    ws.CutCluster.assign(v.PointCluster, v.PointCluster + v.NumberOfPoints);
+    ws.CutCluster.assign(
+      size_t(v.NumberOfPoints), 0); // nothing remembered: every walk from its leaf
     ws.CutClusterStamp = options.OctreeStamp;
   }
   return ws.CutCluster.data();
@@ -379,14 +377,14 @@ private:
     PatchResult& out = this->Out;
     if (rep >= 0)
     {
-      int32_t& id = this->Ws.OutputOf[rep];
-      if (id < 0)
+      int32_t& id = this->Ws.OutputOf[rep]; // 1 + the output point, 0 for none yet
+      if (id == 0)
       {
-        id = static_cast<int32_t>(out.PointSource.size());
+        id = static_cast<int32_t>(out.PointSource.size()) + 1;
         out.PointSource.push_back(rep);
         this->Ws.TouchedClusters.push_back(static_cast<int32_t>(rep));
       }
-      return id;
+      return id - 1;
     }
     // an opened leaf's points get a block of outputs, keyed by the leaf's first cluster
     const int64_t p = -1 - rep;
@@ -401,17 +399,17 @@ private:
       }
       return -1;
     }
-    int32_t& base = this->Ws.OutputOf[v.FirstCluster[leaf]];
-    if (base < 0)
+    int32_t& base = this->Ws.OutputOf[v.FirstCluster[leaf]]; // 1 + the first output point
+    if (base == 0)
     {
-      base = static_cast<int32_t>(out.PointSource.size());
+      base = static_cast<int32_t>(out.PointSource.size()) + 1;
       for (int64_t q = v.FirstPoint[leaf], end = v.PointEnd(leaf); q < end; ++q)
       {
         out.PointSource.push_back(-1 - q);
       }
       this->Ws.TouchedClusters.push_back(v.FirstCluster[leaf]);
     }
-    return base + (p - v.FirstPoint[leaf]);
+    return base - 1 + (p - v.FirstPoint[leaf]);
   }
 
   const OctreeView& V;
@@ -528,8 +526,8 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   if (static_cast<int64_t>(ws.OutputOf.size()) != v.NumberOfClusters ||
     static_cast<int64_t>(ws.Reached.size()) != v.NumberOfNodes)
   {
-    ws.OutputOf.assign(v.NumberOfClusters, -1);
-    ws.Reached.assign(v.NumberOfNodes, 0);
+    ws.OutputOf.assign(size_t(v.NumberOfClusters), 0);
+    ws.Reached.Assign(size_t(v.NumberOfNodes));
     ws.Touched.clear();
     ws.TouchedClusters.clear();
   }
@@ -564,7 +562,7 @@ bool GeneratePatches(const OctreeView& v, const uint8_t* state, const uint8_t* c
   }
   for (int32_t c : ws.TouchedClusters)
   {
-    ws.OutputOf[c] = -1;
+    ws.OutputOf[c] = 0;
   }
   ws.Touched.clear();
   ws.TouchedClusters.clear();
@@ -600,7 +598,7 @@ int64_t CountDrawnTriangles(const OctreeView& v, const uint8_t* state, const uin
   }
   if (static_cast<int64_t>(ws.Reached.size()) != v.NumberOfNodes)
   {
-    ws.Reached.assign(v.NumberOfNodes, 0);
+    ws.Reached.Assign(size_t(v.NumberOfNodes));
     ws.Touched.clear();
   }
   // GeneratePatches' walk and decisions, each range counted alone (in parallel with For)
@@ -667,7 +665,7 @@ bool DrawnTriangleRanges(const OctreeView& v, const uint8_t* state, std::vector<
   PatchWorkspace& ws = workspace ? *workspace : local;
   if (static_cast<int64_t>(ws.Reached.size()) != v.NumberOfNodes)
   {
-    ws.Reached.assign(v.NumberOfNodes, 0);
+    ws.Reached.Assign(size_t(v.NumberOfNodes));
     ws.Touched.clear();
   }
   PatchResult counters;

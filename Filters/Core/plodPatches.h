@@ -64,6 +64,7 @@
 #include "plodCut.h"
 #include "plodOctree.h"
 #include "plodParallel.h"
+#include "plodResidentPages.h"
 
 #include <cstdint>
 #include <string>
@@ -168,11 +169,18 @@ struct PatchDecision
   int32_t Rep[3] = { 0, 0, 0 }; ///< cluster >= 0, or -1 - surface point of an opened leaf
 };
 
-/// Buffers kept between frames so that a frame allocates (and page-faults) nothing new.
+/**
+ * Buffers kept between frames so that a frame allocates nothing new. Reached is zero pages
+ * (plodResidentPages.h), written through its check where the walk marks the cut and read
+ * directly: it takes memory where the cuts have been, not in proportion to the octree. The
+ * arrays per cluster and per point are used for every corner, where that check would cost (see
+ * docs/benchmarks.md): they are plain vectors, made zero when the octree changes.
+ */
 struct PatchWorkspace
 {
-  std::vector<int32_t> OutputOf; // output point of a cluster (or first point of an opened leaf)
-  std::vector<uint8_t> Reached;  // 1 for cut nodes the walk reached
+  std::vector<int32_t> OutputOf; // 1 + output point of a cluster (or of an opened leaf's first
+                                 // point), 0 for none
+  ZeroPages<uint8_t> Reached;    // 1 for cut nodes the walk reached
   std::vector<int32_t> Touched;  // nodes whose entries must be cleared
   std::vector<int32_t> TouchedClusters;
   std::vector<int32_t> Stack;
@@ -182,8 +190,8 @@ struct PatchWorkspace
   std::vector<std::vector<PatchDecision>> Decisions;
   std::vector<std::string> RangeErrors;
   std::vector<int64_t> RangeDrawn; // CountDrawnTriangles: each range's count
-  // PatchOptions::OctreeStamp: per surface point, the cluster its last walk ended at (a cut
-  // cluster then), for the octree of that stamp
+  // PatchOptions::OctreeStamp: per surface point, 1 + the cluster its last walk ended at (a cut
+  // cluster then), 0 before its first walk, for the octree of that stamp
   std::vector<int32_t> CutCluster;
   uint64_t CutClusterStamp = 0;
 };

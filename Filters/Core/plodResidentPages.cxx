@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <new>
 #include <vector>
 
 #if defined(__linux__)
@@ -175,6 +177,76 @@ bool ResidentLimit::Enforce(std::string* why)
   const int64_t after = ProcessFileResidentBytes();
   this->Others = std::max<int64_t>(0, (after < 0 ? before : after) - int64_t(this->LastCounted));
   return true;
+}
+
+void* MapZeroPages(size_t bytes)
+{
+  if (bytes == 0)
+    return nullptr;
+#if defined(__linux__)
+  void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (p == MAP_FAILED)
+    throw std::bad_alloc();
+  return p;
+#else
+  void* p = std::calloc(1, bytes);
+  if (!p)
+    throw std::bad_alloc();
+  return p;
+#endif
+}
+
+void UnmapZeroPages(void* data, size_t bytes)
+{
+  if (!data)
+    return;
+#if defined(__linux__)
+  ::munmap(data, bytes);
+#else
+  (void)bytes;
+  std::free(data);
+#endif
+}
+
+void ZeroPagesAgain(void* data, size_t bytes)
+{
+  if (!data || bytes == 0)
+    return;
+#if defined(__linux__)
+  // whole pages are given back (they read as zero again); the part of a page before the first
+  // whole one and after the last is written as zero (the map starts on a page: only the tail)
+  const size_t page = size_t(::sysconf(_SC_PAGESIZE));
+  const size_t whole = bytes / page * page;
+  if (whole > 0)
+    ::madvise(data, whole, MADV_DONTNEED);
+  std::memset(static_cast<char*>(data) + whole, 0, bytes - whole);
+#else
+  std::memset(data, 0, bytes);
+#endif
+}
+
+void PopulateZeroPages(void* data, size_t bytes)
+{
+  if (!data || bytes == 0)
+    return;
+#if defined(__linux__)
+#ifndef MADV_POPULATE_WRITE
+#define MADV_POPULATE_WRITE 23 // Linux 5.14
+#endif
+  const size_t page = size_t(::sysconf(_SC_PAGESIZE));
+  char* first = static_cast<char*>(data) - reinterpret_cast<uintptr_t>(data) % page;
+  const size_t span = static_cast<char*>(data) + bytes - first;
+  if (::madvise(first, span, MADV_POPULATE_WRITE) == 0)
+    return;
+  // older kernels: an atomic add of zero to one byte of each page (a write fault that keeps
+  // whatever another thread wrote there meanwhile)
+  for (char* p = static_cast<char*>(data); p < static_cast<char*>(data) + bytes;
+       p += page - reinterpret_cast<uintptr_t>(p) % page)
+    __atomic_fetch_add(p, char(0), __ATOMIC_RELAXED);
+#else
+  (void)data;
+  (void)bytes;
+#endif
 }
 
 } // namespace plod

@@ -19,20 +19,31 @@
  * than the limit since the last exact count is the mapping counted page by page, from
  * /proc/self/pagemap (8 bytes read per page mapped). Other mappings that grow (libraries, other
  * octrees) make the exact count come sooner, never later; pages of other files that the kernel
- * reclaims meanwhile can let the mapping exceed the limit by as much until the next count. A page that was written (a private copy:
- * the mapping is copy-on-write) is never dropped, so edits of the arrays are never lost.
- * Linux only; elsewhere, or where /proc is unreadable, Enforce() does nothing and says why.
+ * reclaims meanwhile can let the mapping exceed the limit by as much until the next count. A page
+ * that was written (a private copy: the mapping is copy-on-write) is never dropped, so edits of the
+ * arrays are never lost. Linux only; elsewhere, or where /proc is unreadable, Enforce() does
+ * nothing and says why.
+ *
+ * ZeroPages is the same idea for the filters' own arrays, one value per node, cluster or point
+ * of the octree (what a frame marks, remembers or caches): zero until written, and taking memory
+ * only where written, so that what they hold follows the views as the file's pages do, not the
+ * octree's size. Their users store zero for "nothing here".
  */
 #ifndef plodResidentPages_h
 #define plodResidentPages_h
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string>
+#include <utility>
 
 namespace plod
 {
 
-/// What a process holds of a mapping: pages of the file, and pages written (private copies).
+/// What a process holds of a mapping: pages of the file, and the others (pages written, private
+/// copies; in an anonymous map, also the kernel's shared zero page where only read).
 struct MappingResidency
 {
   uint64_t FileBytes = 0;
@@ -87,6 +98,112 @@ private:
   uint64_t Releases = 0;
   uint64_t ReleasedBytes = 0;
   bool Broken = false;
+};
+
+/// `bytes` of zero pages that take memory when first used (an anonymous private map); throws
+/// std::bad_alloc when they cannot be had. Null for 0 bytes.
+void* MapZeroPages(size_t bytes);
+/// Gives back what MapZeroPages gave.
+void UnmapZeroPages(void* data, size_t bytes);
+/// Makes `bytes` from `data` (a MapZeroPages block) zero again, giving their pages back.
+void ZeroPagesAgain(void* data, size_t bytes);
+/// Gives `bytes` from `data` (within a MapZeroPages block) their memory, writable, keeping their
+/// values (madvise MADV_POPULATE_WRITE, else a write of each page that changes nothing).
+void PopulateZeroPages(void* data, size_t bytes);
+
+/**
+ * A fixed number of values of a trivially copyable `T`, all zero at first, whose memory is
+ * taken a chunk at a time (64 KiB) as values are used (see the file documentation). Every
+ * access goes through operator[], which gives the value's chunk its memory, writable, before
+ * the first use: reading untouched anonymous memory would map the kernel's shared zero page,
+ * and the first write there would then replace it under every thread of the process (a TLB
+ * shootdown per page: docs/benchmarks.md). The check costs a load and a branch an access: arrays
+ * used for every triangle drawn are better plain. Accesses from several threads are safe as the
+ * values' own accesses are.
+ */
+template <class T>
+class ZeroPages
+{
+public:
+  ZeroPages() = default;
+  ZeroPages(const ZeroPages& o) { *this = o; }
+  ZeroPages(ZeroPages&& o) noexcept { this->Swap(o); }
+  ZeroPages& operator=(const ZeroPages& o)
+  {
+    if (this != &o)
+    {
+      this->Assign(o.Size);
+      if (o.Size > 0)
+      {
+        std::memcpy(this->Data, o.Data, o.Size * sizeof(T));
+        std::memset(this->Ready, 1, this->Chunks);
+      }
+    }
+    return *this;
+  }
+  ZeroPages& operator=(ZeroPages&& o) noexcept
+  {
+    this->Swap(o);
+    return *this;
+  }
+  ~ZeroPages()
+  {
+    UnmapZeroPages(this->Data, this->Size * sizeof(T));
+    delete[] this->Ready;
+  }
+
+  /// `n` values, all zero (the old ones given back).
+  void Assign(size_t n)
+  {
+    ZeroPages fresh;
+    fresh.Data = static_cast<T*>(MapZeroPages(n * sizeof(T)));
+    fresh.Size = n;
+    fresh.Chunks = (n * sizeof(T) + ChunkBytes - 1) / ChunkBytes;
+    fresh.Ready = new uint8_t[fresh.Chunks]();
+    this->Swap(fresh);
+  }
+  /// Every value zero again, and its memory given back.
+  void Zero()
+  {
+    ZeroPagesAgain(this->Data, this->Size * sizeof(T));
+    if (this->Chunks > 0)
+      std::memset(this->Ready, 0, this->Chunks);
+  }
+  size_t size() const { return this->Size; }
+  /// The first value's address: to measure the memory taken, or to read values where the
+  /// pages read were given memory by writes through operator[] (a page only read maps the
+  /// kernel's zero page, and the first write through operator[] then replaces it).
+  const T* data() const { return this->Data; }
+  T& operator[](size_t i) const
+  {
+    // relaxed: the flag only spares the call; populating twice is harmless
+    const size_t k = i * sizeof(T) / ChunkBytes;
+    if (__builtin_expect(!__atomic_load_n(&this->Ready[k], __ATOMIC_RELAXED), 0))
+      this->Populate(k);
+    return this->Data[i];
+  }
+
+private:
+  static constexpr size_t ChunkBytes = size_t(1) << 16;
+
+  void Populate(size_t k) const
+  {
+    const size_t first = k * ChunkBytes;
+    const size_t bytes = std::min(ChunkBytes, this->Size * sizeof(T) - first);
+    PopulateZeroPages(reinterpret_cast<char*>(this->Data) + first, bytes);
+    __atomic_store_n(&this->Ready[k], uint8_t(1), __ATOMIC_RELAXED);
+  }
+  void Swap(ZeroPages& o) noexcept
+  {
+    std::swap(this->Data, o.Data);
+    std::swap(this->Size, o.Size);
+    std::swap(this->Ready, o.Ready);
+    std::swap(this->Chunks, o.Chunks);
+  }
+  T* Data = nullptr;
+  size_t Size = 0;
+  uint8_t* Ready = nullptr; // per chunk: 1 once populated
+  size_t Chunks = 0;
 };
 
 } // namespace plod

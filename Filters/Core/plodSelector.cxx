@@ -351,8 +351,8 @@ struct Frame
 {
   const OctreeView& V;
   const SelectionInput& In;
-  const float* SinTheta;
-  const float* CosTheta;
+  const float* ConeAngle;
+  const ZeroPages<uint64_t>* Cones; // Selector::Cones (see ConeSinCos)
   Policy Model;
   bool Micro;
   double Velocity;
@@ -442,10 +442,34 @@ inline double ToLight(const Frame::Light& l, const double x[3], double vl[3])
   return ll;
 }
 
+/**
+ * The sine and cosine of node n's cone angle (as std::sin and std::cos of the float give them),
+ * computed when the node is first judged and kept in frame.Cones: both floats' bits in one
+ * 64-bit word, 0 until computed (never 0 once computed: the sine and cosine of an angle are
+ * never both zero). Walks judging in parallel may compute the same node twice: they store the
+ * same word, atomically.
+ */
+inline void ConeSinCos(const Frame& f, int64_t n, float& sinT, float& cosT)
+{
+  uint64_t& slot = (*f.Cones)[n];
+  uint64_t packed = __atomic_load_n(&slot, __ATOMIC_RELAXED);
+  uint32_t sinBits = uint32_t(packed), cosBits = uint32_t(packed >> 32);
+  if (packed == 0)
+  {
+    sinT = std::sin(f.ConeAngle[n]);
+    cosT = std::cos(f.ConeAngle[n]);
+    std::memcpy(&sinBits, &sinT, sizeof(float));
+    std::memcpy(&cosBits, &cosT, sizeof(float));
+    __atomic_store_n(&slot, uint64_t(sinBits) | uint64_t(cosBits) << 32, __ATOMIC_RELAXED);
+    return;
+  }
+  std::memcpy(&sinT, &sinBits, sizeof(float));
+  std::memcpy(&cosT, &cosBits, sizeof(float));
+}
+
 /// The frame's constants; `lights` receives the prepared lights (its capacity is kept).
-Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const float* sinTheta,
-  const float* cosTheta, std::vector<detail::PreparedLight>& lights,
-  detail::FoveaTable* fovea = nullptr)
+Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const ZeroPages<uint64_t>* cones,
+  std::vector<detail::PreparedLight>& lights, detail::FoveaTable* fovea = nullptr)
 {
   const bool micro = in.Motion == MotionModel::MicroMotion;
   const double velocity =
@@ -461,7 +485,7 @@ Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const float* sinT
     : velocityAlone                ? Policy::VelocityAlone
     : in.Error == ErrorModel::SRCC ? Policy::SRCC
                                    : Policy::Baseline;
-  Frame f{ v, in, sinTheta, cosTheta, model, micro, velocity, { 0, 0, -1 }, false,
+  Frame f{ v, in, v.ConeAngle, cones, model, micro, velocity, { 0, 0, -1 }, false,
     IntegerPower(in.SpecularPower), {}, {}, lights };
   lights.clear();
   if (in.Parallel)
@@ -990,8 +1014,10 @@ template <Policy P, bool WithPriority>
       cell.Ve[a] = cell.ToEye[a] * cell.Inverse;
     cell.K = in.PixelScale * cell.Inverse;
   }
-  cell.CosT = f.CosTheta[n];
-  cell.SinT = f.SinTheta[n];
+  float sinT = 0, cosT = 0;
+  ConeSinCos(f, n, sinT, cosT);
+  cell.CosT = cosT;
+  cell.SinT = sinT;
   cell.C = Dot(cell.Axis, cell.Ve);
 
   // 2a. SRCC's back faces (the contour test's first case) need no tolerance: decided before the
@@ -1102,7 +1128,9 @@ inline int ConeFacing(const Frame& f, int64_t n, const uint32_t c[3], int level)
     sinA = radius / dist;
     cosA = std::sqrt(1.0 - sinA * sinA);
   }
-  const double sinT = f.SinTheta[n], cosT = f.CosTheta[n];
+  float sinTheta = 0, cosTheta = 0;
+  ConeSinCos(f, n, sinTheta, cosTheta);
+  const double sinT = sinTheta, cosT = cosTheta;
   if (!(cosT * cosA - sinT * sinA > 0))
     return 0;                                            // theta + alpha >= pi/2
   const double bound = sinT * cosA + cosT * sinA + 1e-5; // sin(theta + alpha), widened
@@ -1267,13 +1295,7 @@ void Selector::SetOctree(const OctreeView& view)
   static std::atomic<uint64_t> stamps{ 0 };
   this->CountOptions.OctreeStamp = ++stamps;
   this->View = view;
-  this->SinTheta.resize(view.NumberOfNodes);
-  this->CosTheta.resize(view.NumberOfNodes);
-  for (int64_t n = 0; n < view.NumberOfNodes; ++n)
-  {
-    this->SinTheta[n] = std::sin(view.ConeAngle[n]);
-    this->CosTheta[n] = std::cos(view.ConeAngle[n]);
-  }
+  this->Cones.Assign(size_t(view.NumberOfNodes)); // each computed when first judged
   this->Previous.clear();
   this->Front.clear();
   this->BudgetBound = false;
@@ -1283,7 +1305,7 @@ void Selector::SetOctree(const OctreeView& view)
 bool Selector::Refines(const SelectionInput& in, int64_t node) const
 {
   if (node < 0 || node >= this->View.NumberOfNodes ||
-    this->SinTheta.size() != size_t(this->View.NumberOfNodes))
+    this->Cones.size() != size_t(this->View.NumberOfNodes))
   {
     return false;
   }
@@ -1291,8 +1313,7 @@ bool Selector::Refines(const SelectionInput& in, int64_t node) const
   this->View.CellCoordinates(node, xyz);
   const uint32_t C[3] = { uint32_t(xyz[0]), uint32_t(xyz[1]), uint32_t(xyz[2]) };
   std::vector<detail::PreparedLight> lights; // (a diagnostic: its own storage, the walks' kept)
-  const Frame frame =
-    MakeFrame(this->View, in, this->SinTheta.data(), this->CosTheta.data(), lights);
+  const Frame frame = MakeFrame(this->View, in, &this->Cones, lights);
   return WithPolicy(frame.Model, [&](auto policy) {
     uint8_t inside = 0;
     return Judge<decltype(policy)::value, false>(
@@ -1638,8 +1659,7 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
 [[gnu::flatten]] void Selector::SelectDepthFirst(const SelectionInput& in, uint8_t* state,
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats, DrawnTally* tally)
 {
-  const Frame frame = MakeFrame(
-    this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
+  const Frame frame = MakeFrame(this->View, in, &this->Cones, this->FrameLights, &this->Fovea);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   // the walk's stack is a member: its capacity is kept from frame to frame
   std::vector<Entry>& stack = this->Stack;
@@ -1770,8 +1790,7 @@ int64_t CoarsenFront(const Frame& frame, std::vector<EntryType>& next, std::vect
 [[gnu::flatten]] void Selector::SelectIncremental(const SelectionInput& in, uint8_t* state,
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
-  const Frame frame = MakeFrame(
-    this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights, &this->Fovea);
+  const Frame frame = MakeFrame(this->View, in, &this->Cones, this->FrameLights, &this->Fovea);
   this->Previous.clear(); // rebuilt below from the new front
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   this->Stack.clear();
@@ -2219,8 +2238,7 @@ void Selector::SelectWithinBudget(const SelectionInput& in, int64_t budget, uint
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
   // (no foveation table: the budget's priorities need the exact factor)
-  const Frame frame =
-    MakeFrame(this->View, in, this->SinTheta.data(), this->CosTheta.data(), this->FrameLights);
+  const Frame frame = MakeFrame(this->View, in, &this->Cones, this->FrameLights);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   this->Stack.clear();
   this->Queue.clear();

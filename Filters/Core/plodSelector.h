@@ -216,6 +216,7 @@
 #include "plodOctree.h"
 #include "plodParallel.h"
 #include "plodPatches.h"
+#include "plodResidentPages.h"
 
 #include <cstdint>
 #include <limits>
@@ -582,7 +583,9 @@ private:
   PatchOptions CountOptions;        // its rules (For, octree stamp kept; the view's set each frame)
   std::vector<Candidate> QueueRest; // SkipMisfits' last pass: the queue it reads
   std::vector<WaitingCell> Waiting;
-  std::vector<float> SinTheta, CosTheta;
+  // per node, its cone angle's sine and cosine once judged (see ConeSinCos in the source): zero
+  // pages, so that they take memory where the views judge, not in proportion to the octree
+  mutable ZeroPages<uint64_t> Cones;
   std::vector<detail::PreparedLight> FrameLights; // the frame's lights (capacity kept)
   detail::FoveaTable Fovea;      // screen foveation's factor table (the walks' first bound)
   std::vector<int32_t> Previous; // nodes of the previous cut

@@ -181,3 +181,62 @@ TEST(ResidentPages, NothingToKeepWithoutAMapping)
   EXPECT_NE(why.find("page"), std::string::npos) << why;
   EXPECT_GE(plod::ProcessFileResidentBytes(), 0);
 }
+
+TEST(ResidentPages, ZeroPagesTakeMemoryWhereWritten)
+{
+  // 64 MiB of zeros, three values written and two read: at most five chunks of 64 KiB taken, or
+  // five huge pages where the kernel backs anonymous memory with them (2 MiB each)
+  const size_t n = size_t(16) << 20;
+  plod::ZeroPages<int32_t> a;
+  a.Assign(n);
+  ASSERT_EQ(a.size(), n);
+  EXPECT_EQ(a[0], 0);
+  EXPECT_EQ(a[n / 2], 0);
+  EXPECT_EQ(a[n - 1], 0);
+  a[12] = 7;
+  a[n / 3] = -5;
+  a[n - 1] = 9;
+  plod::MappingResidency r;
+  std::string why;
+  if (PageMapReadable())
+  {
+    ASSERT_TRUE(plod::MeasureMappingResidency(
+      const_cast<int32_t*>(a.data()), n * sizeof(int32_t), false, r, &why))
+      << why;
+    EXPECT_EQ(r.FileBytes, 0u);
+    EXPECT_GT(r.PrivateBytes, 0u);
+    EXPECT_LE(r.PrivateBytes, size_t(5) << 21);
+  }
+  // a copy holds the same values; the original zeroed gives its memory back and reads zero
+  plod::ZeroPages<int32_t> b = a;
+  a.Zero();
+  if (PageMapReadable())
+  {
+    ASSERT_TRUE(plod::MeasureMappingResidency(
+      const_cast<int32_t*>(a.data()), n * sizeof(int32_t), false, r, &why))
+      << why;
+    EXPECT_EQ(r.PrivateBytes + r.FileBytes, 0u);
+  }
+  EXPECT_EQ(a[12], 0);
+  EXPECT_EQ(a[n / 3], 0);
+  EXPECT_EQ(a[n - 1], 0);
+  EXPECT_EQ(b[12], 7);
+  EXPECT_EQ(b[n / 3], -5);
+  EXPECT_EQ(b[n - 1], 9);
+  EXPECT_EQ(b[13], 0);
+  // a size that is not a whole number of pages: the tail is zeroed too
+  plod::ZeroPages<uint8_t> c;
+  c.Assign(5000);
+  c[4999] = 1;
+  c[100] = 2;
+  c.Zero();
+  EXPECT_EQ(c[4999], 0);
+  EXPECT_EQ(c[100], 0);
+  // moved: the source is empty; assigned again: zero
+  plod::ZeroPages<int32_t> d = std::move(b);
+  EXPECT_EQ(b.size(), 0u);
+  EXPECT_EQ(d[n / 3], -5);
+  d.Assign(10);
+  EXPECT_EQ(d.size(), 10u);
+  EXPECT_EQ(d[3], 0);
+}
