@@ -345,6 +345,13 @@ def octree_filters(out):
     count = LOD(from_file).GetNumberOfTriangles()
     check(count == direct, "the octree read back draws the same triangles (%d, %d)"
           % (count, direct))
+    # the cache limit on the mapped file: 2048 MiB by default; the smallest draws the same
+    check(read.CacheLimit == 2048, "the Reader's CacheLimit is 2048 MiB (%s)" % read.CacheLimit)
+    read.CacheLimit = 1
+    Render(view)
+    count = LOD(from_file).GetNumberOfTriangles()
+    check(count == direct, "a CacheLimit of 1 MiB draws the same triangles (%d, %d)"
+          % (count, direct))
 
     # a PLY file built without loading it: the same surface triangles as the mesh
     from paraview.simple import MultiscaleOctreeFromPLYFile

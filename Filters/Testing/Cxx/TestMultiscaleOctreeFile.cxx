@@ -938,6 +938,20 @@ TEST(MultiscaleOctreeFile, CacheLimitKeepsTheMappedPagesWithinIt)
         << "frame " << k;
     }
   }
+  // a negative limit is no limit; a file read into memory has no mapped pages to keep
+  {
+    vtkNew<vtkMultiscaleOctreeReader> reader;
+    reader->SetCacheLimit(-5);
+    EXPECT_EQ(reader->GetCacheLimit(), 0);
+    reader->SetFileName(path.c_str());
+    reader->SetMemoryMap(false);
+    reader->SetCacheLimit(1);
+    reader->Update();
+    EXPECT_FALSE(reader->GetMapped());
+    EXPECT_EQ(reader->GetOutput()->GetMappedResidentBytes(), -1);
+    reader->GetOutput()->EnforceResidentLimit();
+    EXPECT_EQ(reader->GetOutput()->GetNumberOfResidentReleases(), 0);
+  }
   std::cout << "file " << (fileBytes >> 10) << " KiB; without a limit the flight held up to "
             << (free.MostResident >> 10) << " KiB; with 2 MiB, " << limited.Releases
             << " releases\n";
