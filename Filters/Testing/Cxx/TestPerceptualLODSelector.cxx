@@ -2390,6 +2390,8 @@ TEST(PerceptualLODSelector, ExactBudgetKeepsTheBestWalkThatFits)
         const int64_t N = scene.Select(in).BudgetTriangles;
         if (N < 50)
           continue;
+        // the scene's selector remembers its cut in these arrays: given back after the budgets
+        const std::vector<uint8_t> state = scene.State, reason = scene.Reason, mask = scene.Mask;
         for (const double fraction : fractions)
         {
           in.TriangleBudget = std::max<int64_t>(1, int64_t(fraction * double(N)));
@@ -2423,6 +2425,9 @@ TEST(PerceptualLODSelector, ExactBudgetKeepsTheBestWalkThatFits)
           EXPECT_LE(drawn, in.TriangleBudget) << what;
           searched += stats.Visited > 2 * plainStats.Visited ? 1 : 0;
         }
+        scene.State = state;
+        scene.Reason = reason;
+        scene.Mask = mask;
       }
     });
   std::cout << cases << " budgets, " << fitted << " with a fitting plain walk, " << searched
