@@ -63,15 +63,24 @@ using Decision = PatchDecision;
 class TriangleJudge
 {
 public:
-  /// `remembered`: PatchWorkspace::CutCluster for this octree, or null.
+  /// `remembered`: PatchWorkspace::CutCluster for this octree, or null. `foldTest`: whether
+  /// folds are told apart (by default when options.Folds is not Keep; a count that draws a fold
+  /// as any triangle spares the test).
   TriangleJudge(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
     const uint8_t* reached, const PatchOptions& options, int32_t* remembered = nullptr)
+    : TriangleJudge(
+        v, state, cullMask, reached, options, remembered, options.Folds != FoldHandling::Keep)
+  {
+  }
+  TriangleJudge(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
+    const uint8_t* reached, const PatchOptions& options, int32_t* remembered, bool foldTest)
     : V(v)
     , State(state)
     , CullMask(cullMask)
     , Reached(reached)
     , Options(options)
     , Remembered(remembered)
+    , FoldTest(foldTest)
   {
   }
 
@@ -124,11 +133,11 @@ public:
       return d;
     }
     const PatchOptions& o = this->Options;
-    if (o.Folds != FoldHandling::Keep || o.CullBackFaces)
+    if (this->FoldTest || o.CullBackFaces)
     {
       const Drawn tri(v, rep);
-      const bool fold = o.Folds != FoldHandling::Keep &&
-        (rep[0] >= 0 || rep[1] >= 0 || rep[2] >= 0) && tri.TurnedOver();
+      const bool fold =
+        this->FoldTest && (rep[0] >= 0 || rep[1] >= 0 || rep[2] >= 0) && tri.TurnedOver();
       if (fold && o.Folds == FoldHandling::Drop)
       {
         d.What = Decision::FoldDropped;
@@ -233,6 +242,7 @@ private:
   const uint8_t* Reached; // read only here: its pages are given memory where the walk writes
   const PatchOptions& Options;
   int32_t* Remembered;
+  bool FoldTest;
 };
 
 /// The workspace's remembered corner walks for `options.OctreeStamp` (made from the points'
@@ -601,12 +611,14 @@ int64_t CountDrawnTriangles(const OctreeView& v, const uint8_t* state, const uin
     ws.Reached.Assign(size_t(v.NumberOfNodes));
     ws.Touched.clear();
   }
-  // GeneratePatches' walk and decisions, each range counted alone (in parallel with For)
+  // GeneratePatches' walk and decisions, each range counted alone (in parallel with For). A
+  // fold is drawn as any triangle is unless folds are dropped: otherwise the fold test, which
+  // reads the three corners' normals, is spared (Keep decides the rest as the others do)
   PatchResult counters;
   std::string error;
   bool ok = WalkAboveTheCut(v, state, ws, counters, error);
-  const TriangleJudge judge(
-    v, state, cullMask, ws.Reached.data(), options, RememberedWalks(v, options, ws));
+  const TriangleJudge judge(v, state, cullMask, ws.Reached.data(), options,
+    RememberedWalks(v, options, ws), options.Folds == FoldHandling::Drop);
   const int64_t ranges = ok ? SplitIntoRanges(v, ws, options.TrianglesPerRange) : 0;
   std::vector<int64_t>& drawn = ws.RangeDrawn;
   drawn.assign(static_cast<size_t>(ranges), 0);
