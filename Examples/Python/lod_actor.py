@@ -1,10 +1,11 @@
 """The perceptual LOD as one actor: the whole pipeline is vtkPerceptualLODActor.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Examples/Python/lod_actor.py \
-        [model.ply | octree.plod] [--offscreen]
+        [model.ply | octree.plod] [--offscreen] [--cache-limit MiB]
 
 Interactive: rotate with the mouse; the actor selects its cut again for every view. With
 --offscreen (run it under `xvfb-run -a`), it orbits for 30 frames and prints the triangles drawn.
+An octree file is mapped: --cache-limit bounds how much of it stays resident between frames.
 """
 import sys
 
@@ -18,10 +19,18 @@ from perceptual_lod import vtkMultiscaleOctreeReader, vtkPerceptualLODActor, vtk
 
 from model_files import checked  # beside this script
 
-args = [checked(a) for a in sys.argv[1:] if not a.startswith('--')]
+options = sys.argv[1:]
+cache_limit = None
+if '--cache-limit' in options:
+    at = options.index('--cache-limit')
+    cache_limit = int(options[at + 1])
+    del options[at:at + 2]
+args = [checked(a) for a in options if not a.startswith('--')]
 if args and vtkMultiscaleOctreeReader.CanReadFile(args[0]):
     source = vtkMultiscaleOctreeReader()  # a saved octree: nothing to build
     source.SetFileName(args[0])
+    if cache_limit is not None:
+        source.SetCacheLimit(cache_limit)  # MiB of the mapped file kept between frames
 elif args:
     source = vtkPLYReader()
     source.SetFileName(args[0])
@@ -51,6 +60,11 @@ if '--offscreen' in sys.argv:
         window.Render()
         print(f'frame {frame:2d}: {actor.GetPatchGenerator().GetNumberOfTriangles()} triangles '
               f'(select {actor.GetSelector().GetSelectTime() * 1e3:.2f} ms)')
+    if isinstance(source, vtkMultiscaleOctreeReader) and source.GetMapped():
+        octree = source.GetOutput()
+        print(f'mapped octree: cache limit {source.GetCacheLimit()} MiB, '
+              f'{octree.GetMappedResidentBytes() / 2 ** 20:.1f} MiB resident, '
+              f'dropped {octree.GetNumberOfResidentReleases()} times')
 else:
     interactor = vtkRenderWindowInteractor()
     interactor.SetRenderWindow(window)
