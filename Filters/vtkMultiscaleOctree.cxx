@@ -5,6 +5,7 @@
 #include "plodOctree.h"
 #include "plodOctreeFile.h"
 #include "plodOctreeSchema.h"
+#include "plodPatches.h"
 #include "plodResidentPages.h"
 
 #include "vtkFieldData.h"
@@ -102,6 +103,7 @@ void vtkMultiscaleOctree::Initialize()
   this->NumberOfNonManifoldEdges = 0;
   this->NumberOfMisorientedEdges = 0;
   this->SourceFile = nullptr;
+  this->CornerMemo = nullptr;
   this->Modified();
 }
 
@@ -128,7 +130,8 @@ void vtkMultiscaleOctree::ShallowCopy(vtkDataObject* src)
     this->CheckedWhy = o->CheckedWhy;
     this->CheckedView = o->CheckedView;
     this->CheckedStamp = o->CheckedStamp;
-    this->SourceFile = o->SourceFile; // the same mapped bytes
+    this->SourceFile = o->SourceFile;      // the same mapped bytes
+    this->CornerMemo = o->GetCornerMemo(); // the same points: one memo for both
   }
   this->Superclass::ShallowCopy(src);
   this->Modified();
@@ -151,6 +154,7 @@ void vtkMultiscaleOctree::DeepCopy(vtkDataObject* src)
     this->NumberOfNonManifoldEdges = o->NumberOfNonManifoldEdges;
     this->NumberOfMisorientedEdges = o->NumberOfMisorientedEdges;
     this->SourceFile = nullptr; // copied into memory
+    this->CornerMemo = nullptr;
   }
   this->Superclass::DeepCopy(src);
   this->Modified();
@@ -492,6 +496,16 @@ void vtkMultiscaleOctree::EnforceResidentLimit()
     this->SourceFile->WarnedResident = true;
     vtkWarningMacro(<< "The octree file's cache limit is not kept: " << why << ".");
   }
+}
+
+//------------------------------------------------------------------------------
+std::shared_ptr<plod::CornerMemo> vtkMultiscaleOctree::GetCornerMemo()
+{
+  if (!this->CornerMemo)
+  {
+    this->CornerMemo = std::make_shared<plod::CornerMemo>();
+  }
+  return this->CornerMemo;
 }
 
 //------------------------------------------------------------------------------

@@ -66,6 +66,7 @@ struct OctreeView;
 struct OctreeArrays;
 struct ArraySpec;
 struct FileIdentity;
+struct CornerMemo;
 enum class ArrayGroup : uint8_t;
 enum class ArrayType : uint8_t;
 }
@@ -327,6 +328,13 @@ public:
    * shallow copies.
    */
   void SetMappedPages(std::shared_ptr<void> memory, void* start, uint64_t bytes, uint64_t limit);
+  /**
+   * The corner walks remembered for this octree's cuts (plod::CornerMemo), made at the first
+   * call and shared by shallow copies: the selector's exact count and the patch generator keep
+   * one array per surface point between them, under the checked stamp (GetCheckedView).
+   * Initialize() and DeepCopy() drop it.
+   */
+  std::shared_ptr<plod::CornerMemo> GetCornerMemo();
 #endif
   /**
    * Keeps the mapped file's pages that this process holds within the reader's CacheLimit: when
@@ -403,6 +411,7 @@ protected:
   // it is reported once)
   struct SourceFileState;
   std::shared_ptr<SourceFileState> SourceFile;
+  std::shared_ptr<plod::CornerMemo> CornerMemo;
   /// Adds the schema's array `spec` with `tuples` tuples (contents undefined).
   void AddSchemaArray(const plod::ArraySpec& spec, vtkIdType tuples);
 #endif

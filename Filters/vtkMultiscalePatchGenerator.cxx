@@ -237,6 +237,7 @@ int vtkMultiscalePatchGenerator::RequestData(
     input->GetNodeData()->GetAbstractArray(vtkMultiscaleOctree::CullMaskArrayName()));
   const bool hasMask =
     mask && mask->GetNumberOfComponents() == 1 && mask->GetNumberOfTuples() == v.NumberOfNodes;
+  this->Internal->Workspace.Memo = input->GetCornerMemo(); // shared with the selector's count
   if (!plod::GeneratePatches(v, state, hasMask ? mask->GetPointer(0) : nullptr, r, &why,
         &this->Internal->Workspace, this->MakeOptions(input, checked)))
   {

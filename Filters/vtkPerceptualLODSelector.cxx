@@ -2,6 +2,7 @@
 #include "vtkPerceptualLODSelector.h"
 #include "vtkPerceptualLODSMP.h"
 
+#include "plodPatches.h"
 #include "plodSelector.h"
 #include "plodViewModel.h"
 
@@ -270,7 +271,7 @@ int vtkPerceptualLODSelector::RequestData(
     return 1;
   }
   plod::SelectionStats stats;
-  this->Select(view, viewStamp, in, stats);
+  this->Select(input, view, viewStamp, in, stats);
   this->MakeOutput(input, in, output);
   this->ExplainEmptyCut(in, stats);
   input->EnforceResidentLimit(); // the pages this walk mapped, within the reader's CacheLimit
@@ -412,8 +413,8 @@ plod::FrameView vtkPerceptualLODSelector::MakeFrame()
 }
 
 //------------------------------------------------------------------------------
-void vtkPerceptualLODSelector::Select(const plod::OctreeView& view, vtkMTimeType viewStamp,
-  const plod::SelectionInput& in, plod::SelectionStats& stats)
+void vtkPerceptualLODSelector::Select(vtkMultiscaleOctree* input, const plod::OctreeView& view,
+  vtkMTimeType viewStamp, const plod::SelectionInput& in, plod::SelectionStats& stats)
 {
   // the kernel and the cut arrays follow the octree
   Internals& I = *this->Internal;
@@ -433,6 +434,9 @@ void vtkPerceptualLODSelector::Select(const plod::OctreeView& view, vtkMTimeType
     I.ViewStamp = viewStamp;
     I.Prepared = nullptr;
   }
+  // one memo of corner walks for the exact count and the patch generator, under the stamp the
+  // patch generator passes too (the view's, which the output's shallow copy keeps)
+  I.Kernel.SetCornerMemo(input->GetCornerMemo(), viewStamp);
   if (this->MultiThreaded && vtkSMPTools::GetEstimatedNumberOfThreads() > 1)
   {
     I.Kernel.SetParallelFor(plodvtk::SMPRanges());

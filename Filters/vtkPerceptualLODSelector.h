@@ -574,9 +574,10 @@ protected:
     vtkMultiscaleOctree* input, const plod::OctreeView& view, plod::SelectionInput& in);
   /// The view model's input (plodViewModel.h) from the camera, lights and motion settings.
   plod::FrameView MakeFrame();
-  /// The kernel's walk into the cut arrays (made again when the octree changed).
-  void Select(const plod::OctreeView& view, vtkMTimeType viewStamp, const plod::SelectionInput& in,
-    plod::SelectionStats& stats);
+  /// The kernel's walk into the cut arrays (made again when the octree changed); its exact
+  /// count remembers corner walks in the input's memo (shared with the patch generator).
+  void Select(vtkMultiscaleOctree* input, const plod::OctreeView& view, vtkMTimeType viewStamp,
+    const plod::SelectionInput& in, plod::SelectionStats& stats);
   /// The output: the input's arrays, the cut's, and the view the cut was made for.
   void MakeOutput(
     vtkMultiscaleOctree* input, const plod::SelectionInput& in, vtkMultiscaleOctree* output);

@@ -63,7 +63,7 @@ using Decision = PatchDecision;
 class TriangleJudge
 {
 public:
-  /// `remembered`: PatchWorkspace::CutCluster for this octree, or null. `foldTest`: whether
+  /// `remembered`: the workspace's CornerMemo for this octree, or null. `foldTest`: whether
   /// folds are told apart (by default when options.Folds is not Keep; a count that draws a fold
   /// as any triangle spares the test).
   TriangleJudge(const OctreeView& v, const uint8_t* state, const uint8_t* cullMask,
@@ -245,20 +245,23 @@ private:
   bool FoldTest;
 };
 
-/// The workspace's remembered corner walks for `options.OctreeStamp` (made from the points'
-/// leaf clusters when the stamp or the octree's size changed), or null when not asked for.
+/// The workspace's remembered corner walks for `options.OctreeStamp` (made empty when the stamp
+/// or the octree's size changed), or null when not asked for.
 int32_t* RememberedWalks(const OctreeView& v, const PatchOptions& options, PatchWorkspace& ws)
 {
   if (options.OctreeStamp == 0 || !v.PointCluster)
     return nullptr;
-  if (ws.CutClusterStamp != options.OctreeStamp ||
-    static_cast<int64_t>(ws.CutCluster.size()) != v.NumberOfPoints)
+  if (!ws.Memo)
+    ws.Memo = std::make_shared<CornerMemo>();
+  CornerMemo& memo = *ws.Memo;
+  if (memo.Stamp != options.OctreeStamp ||
+    static_cast<int64_t>(memo.CutCluster.size()) != v.NumberOfPoints)
   {
-    ws.CutCluster.assign(
-      size_t(v.NumberOfPoints), 0); // nothing remembered: every walk from its leaf
-    ws.CutClusterStamp = options.OctreeStamp;
+    memo.CutCluster.assign(size_t(v.NumberOfPoints), 0); // every walk from its leaf
+    memo.Stamp = options.OctreeStamp;
+    ++memo.Resets;
   }
-  return ws.CutCluster.data();
+  return memo.CutCluster.data();
 }
 
 /// Walks the nodes above the cut from the root: marks the cut nodes reached, lists the nodes

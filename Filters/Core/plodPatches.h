@@ -67,6 +67,7 @@
 #include "plodResidentPages.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -140,12 +141,13 @@ struct PatchOptions
   bool Parallel = false;
   double ProjectionDirection[3] = { 0, 0, -1 }; // parallel projection
   /**
-   * The octree's identity for the corner walks the workspace remembers (PatchWorkspace::
-   * CutCluster): a value that changes whenever the octree's arrays do (the VTK layer passes
-   * vtkMultiscaleOctree's checked stamp). Non-zero, with a workspace given, each corner first
-   * tries the cluster its walk ended at in the last call with the same value, and walks from its
-   * leaf only when that cluster's node is no longer a reached cut node. 0 (default): every
-   * corner walks from its leaf. The output is the same either way for a valid cut.
+   * The octree's identity for the corner walks the workspace remembers (PatchWorkspace::Memo):
+   * a value that changes whenever the octree's arrays do, and that no other octree drawn with
+   * the same memo has (the VTK layer passes vtkMultiscaleOctree's checked stamp). Non-zero, with a
+   * workspace given, each corner first tries the cluster its walk ended at in the last call with
+   * the same value, and walks from its leaf only when that cluster's node is no longer a reached
+   * cut node. 0 (default): every corner walks from its leaf. The output is the same either way for
+   * a valid cut.
    */
   uint64_t OctreeStamp = 0;
 };
@@ -170,6 +172,21 @@ struct PatchDecision
 };
 
 /**
+ * Corner walks remembered for one octree (PatchOptions::OctreeStamp): per surface point, 1 + the
+ * cluster its last walk ended at (a cut cluster then), 0 before its first walk. Workspaces that
+ * draw the same octree can share one (the VTK layer's selector, for its exact count, and patch
+ * generator: one array per point instead of two); they must not run at the same time with
+ * different stamps. Any cut may use what another cut's walks remembered: an entry is used only
+ * when its cluster's node is a cut node that the current walk reached.
+ */
+struct CornerMemo
+{
+  std::vector<int32_t> CutCluster;
+  uint64_t Stamp = 0;
+  int64_t Resets = 0; // how many times it was made empty for a new stamp or size
+};
+
+/**
  * Buffers kept between frames so that a frame allocates nothing new. Reached is zero pages
  * (plodResidentPages.h), written through its check where the walk marks the cut and read
  * directly: it takes memory where the cuts have been, not in proportion to the octree. The
@@ -190,10 +207,9 @@ struct PatchWorkspace
   std::vector<std::vector<PatchDecision>> Decisions;
   std::vector<std::string> RangeErrors;
   std::vector<int64_t> RangeDrawn; // CountDrawnTriangles: each range's count
-  // PatchOptions::OctreeStamp: per surface point, 1 + the cluster its last walk ended at (a cut
-  // cluster then), 0 before its first walk, for the octree of that stamp
-  std::vector<int32_t> CutCluster;
-  uint64_t CutClusterStamp = 0;
+  // PatchOptions::OctreeStamp: the remembered corner walks (made when first needed, unless a
+  // shared one was given)
+  std::shared_ptr<CornerMemo> Memo;
 };
 
 /**

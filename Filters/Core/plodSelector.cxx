@@ -1294,6 +1294,7 @@ void Selector::SetOctree(const OctreeView& view)
   // a new identity for the exact budget's remembered corner walks (PatchOptions::OctreeStamp)
   static std::atomic<uint64_t> stamps{ 0 };
   this->CountOptions.OctreeStamp = ++stamps;
+  this->CountSpace.Memo = nullptr; // a memo of its own, made at the first count
   this->View = view;
   this->Cones.Assign(size_t(view.NumberOfNodes)); // each computed when first judged
   this->Previous.clear();

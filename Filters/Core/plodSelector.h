@@ -220,6 +220,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -475,6 +476,17 @@ class Selector
 public:
   /// Call when the octree changes (recomputes the caches).
   void SetOctree(const OctreeView& view);
+  /**
+   * The exact count's remembered corner walks (SelectionInput::ExactBudget): `memo`, shared
+   * with the patch generator that draws the same octree, under `stamp` (non-zero, unique to the
+   * octree: see PatchOptions::OctreeStamp). Call after SetOctree(), which goes back to a memo of
+   * the selector's own under a stamp of its own.
+   */
+  void SetCornerMemo(std::shared_ptr<CornerMemo> memo, uint64_t stamp)
+  {
+    this->CountSpace.Memo = std::move(memo);
+    this->CountOptions.OctreeStamp = stamp;
+  }
   /// Writes the cut into `state`, `reason` and `cullMask` (arrays of NumberOfNodes, kept
   /// between calls: only the previous cut's entries are cleared). `cullMask` (may be null)
   /// receives, for culled cells, the frustum planes their cell lies wholly outside (bit i:

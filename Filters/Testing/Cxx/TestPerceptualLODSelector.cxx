@@ -2500,6 +2500,63 @@ TEST(PerceptualLODSelector, ExactBudgetNeverExceededOnLucy)
   EXPECT_GT(binding, frames / 2);
 }
 
+TEST(PerceptualLODSelector, ExactCountAndPatchesShareOneCornerMemo)
+{
+  // The selector's exact count and the patch generator remember corner walks in one memo per
+  // octree (vtkMultiscaleOctree::GetCornerMemo, shared by the selector's output): over an orbit
+  // whose budget binds, the memo is made once (both pass the same stamp: neither empties it for
+  // the other), holds one entry per surface point, and every frame draws what a fresh pipeline
+  // on a copy of the octree draws (its memo empty), point for point.
+  auto blob = plodtest::MakeBlob(3, 120, 0.25);
+  Pipeline p(blob, 7);
+  p.Selector->SetTriangleBudget(800);
+  p.Selector->ScaleTolerances(0.25);
+  ASSERT_TRUE(p.Selector->GetExactTriangleBudget());
+  const double focus[3] = { 0, 0, 0 };
+  int binding = 0;
+  for (int k = 0; k < 12; ++k)
+  {
+    const double a = 0.3 * k;
+    const double eye[3] = { 2.6 * std::sin(a), 0.4, 2.6 * std::cos(a) };
+    p.Look(eye, focus);
+    p.Patches->Update();
+    binding += p.Selector->GetBudgetWasBinding() ? 1 : 0;
+    vtkPolyData* drawn = p.Patches->GetOutput();
+    // a fresh pipeline on a deep copy (a memo of its own, empty)
+    vtkNew<vtkMultiscaleOctree> copy;
+    copy->DeepCopy(p.Builder->GetOutput());
+    vtkNew<vtkPerceptualLODSelector> selector;
+    vtkNew<vtkMultiscalePatchGenerator> patches;
+    selector->SetInputData(copy);
+    patches->SetInputConnection(selector->GetOutputPort());
+    selector->SetTriangleBudget(800);
+    selector->ScaleTolerances(0.25);
+    selector->SetEyePosition(eye[0], eye[1], eye[2]);
+    selector->SetViewAngle(30);
+    double planes[24];
+    p.Selector->GetFrustumPlanes(planes);
+    selector->SetFrustumPlanes(planes);
+    patches->Update();
+    vtkPolyData* fresh = patches->GetOutput();
+    ASSERT_EQ(drawn->GetNumberOfPolys(), fresh->GetNumberOfPolys()) << "frame " << k;
+    ASSERT_EQ(drawn->GetNumberOfPoints(), fresh->GetNumberOfPoints()) << "frame " << k;
+    auto* a1 = vtkFloatArray::SafeDownCast(drawn->GetPoints()->GetData());
+    auto* a2 = vtkFloatArray::SafeDownCast(fresh->GetPoints()->GetData());
+    ASSERT_TRUE(a1 && a2);
+    EXPECT_EQ(std::memcmp(a1->GetPointer(0), a2->GetPointer(0),
+                size_t(3 * drawn->GetNumberOfPoints()) * sizeof(float)),
+      0)
+      << "frame " << k;
+  }
+  EXPECT_GT(binding, 6);
+  const auto memo = p.Builder->GetOutput()->GetCornerMemo();
+  EXPECT_EQ(p.Selector->GetOutput()->GetCornerMemo(), memo);
+  EXPECT_EQ(memo->Resets, 1);
+  EXPECT_EQ(static_cast<vtkIdType>(memo->CutCluster.size()),
+    p.Builder->GetOutput()->GetNumberOfSurfacePoints());
+  EXPECT_NE(memo->Stamp, 0u);
+}
+
 TEST(PerceptualLODSelector, ExactBudgetOnAnOpenModel)
 {
   // An open soup (back faces drawn, no ghosts), seen close so that the frustum culls much of it:
