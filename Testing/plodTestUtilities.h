@@ -683,6 +683,25 @@ inline vtkSmartPointer<vtkPolyData> ReadBunnyScans(const std::string& dir, int* 
   return pd;
 }
 
+/// True when two drawn surfaces hold the same triangle and point counts and the same points,
+/// bit for bit (float points, as the patch generator makes them).
+inline bool SameDrawing(vtkPolyData* a, vtkPolyData* b)
+{
+  if (a->GetNumberOfPolys() != b->GetNumberOfPolys() ||
+    a->GetNumberOfPoints() != b->GetNumberOfPoints())
+  {
+    return false;
+  }
+  auto* pa = a->GetPoints() ? vtkFloatArray::SafeDownCast(a->GetPoints()->GetData()) : nullptr;
+  auto* pb = b->GetPoints() ? vtkFloatArray::SafeDownCast(b->GetPoints()->GetData()) : nullptr;
+  if (!pa || !pb)
+  {
+    return !pa && !pb && a->GetNumberOfPoints() == 0;
+  }
+  return std::memcmp(pa->GetPointer(0), pb->GetPointer(0),
+           size_t(3 * a->GetNumberOfPoints()) * sizeof(float)) == 0;
+}
+
 } // namespace plodtest
 
 #endif

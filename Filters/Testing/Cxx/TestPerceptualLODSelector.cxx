@@ -2537,16 +2537,8 @@ TEST(PerceptualLODSelector, ExactCountAndPatchesShareOneCornerMemo)
     p.Selector->GetFrustumPlanes(planes);
     selector->SetFrustumPlanes(planes);
     patches->Update();
-    vtkPolyData* fresh = patches->GetOutput();
-    ASSERT_EQ(drawn->GetNumberOfPolys(), fresh->GetNumberOfPolys()) << "frame " << k;
-    ASSERT_EQ(drawn->GetNumberOfPoints(), fresh->GetNumberOfPoints()) << "frame " << k;
-    auto* a1 = vtkFloatArray::SafeDownCast(drawn->GetPoints()->GetData());
-    auto* a2 = vtkFloatArray::SafeDownCast(fresh->GetPoints()->GetData());
-    ASSERT_TRUE(a1 && a2);
-    EXPECT_EQ(std::memcmp(a1->GetPointer(0), a2->GetPointer(0),
-                size_t(3 * drawn->GetNumberOfPoints()) * sizeof(float)),
-      0)
-      << "frame " << k;
+    ASSERT_GT(drawn->GetNumberOfPolys(), 0) << "frame " << k;
+    EXPECT_TRUE(plodtest::SameDrawing(drawn, patches->GetOutput())) << "frame " << k;
   }
   EXPECT_GT(binding, 6);
   const auto memo = p.Builder->GetOutput()->GetCornerMemo();
