@@ -461,8 +461,6 @@ struct vtkMultiscaleOctree::SourceFileState
   bool WarnedReplaced = false;
   // the mapped bytes and the limit on their resident pages (SetMappedPages)
   std::shared_ptr<void> Memory;
-  void* Start = nullptr;
-  uint64_t Bytes = 0;
   plod::ResidentLimit Resident;
   bool WarnedResident = false;
 };
@@ -477,8 +475,6 @@ void vtkMultiscaleOctree::SetMappedPages(
     return;
   }
   this->SourceFile->Memory = std::move(memory);
-  this->SourceFile->Start = start;
-  this->SourceFile->Bytes = bytes;
   this->SourceFile->Resident.Attach(start, bytes);
   this->SourceFile->Resident.SetLimit(limit);
 }
@@ -486,7 +482,7 @@ void vtkMultiscaleOctree::SetMappedPages(
 //------------------------------------------------------------------------------
 void vtkMultiscaleOctree::EnforceResidentLimit()
 {
-  if (!this->SourceFile || !this->SourceFile->Start)
+  if (!this->SourceFile || !this->SourceFile->Memory)
   {
     return;
   }
@@ -511,13 +507,8 @@ std::shared_ptr<plod::CornerMemo> vtkMultiscaleOctree::GetCornerMemo()
 //------------------------------------------------------------------------------
 vtkIdType vtkMultiscaleOctree::GetMappedResidentBytes()
 {
-  if (!this->SourceFile || !this->SourceFile->Start)
-  {
-    return -1;
-  }
   plod::MappingResidency r;
-  if (!plod::MeasureMappingResidency(
-        this->SourceFile->Start, this->SourceFile->Bytes, false, r, nullptr))
+  if (!this->SourceFile || !this->SourceFile->Resident.Measure(r, nullptr))
   {
     return -1;
   }

@@ -82,6 +82,12 @@ public:
   /// How many times Enforce() dropped the pages, and how many bytes in all.
   uint64_t GetReleases() const { return this->Releases; }
   uint64_t GetReleasedBytes() const { return this->ReleasedBytes; }
+  /// Counts the attached mapping's pages now (MeasureMappingResidency, nothing dropped); false
+  /// when none is attached or the page map cannot be read.
+  bool Measure(MappingResidency& out, std::string* why) const
+  {
+    return this->Data && MeasureMappingResidency(this->Data, this->Bytes, false, out, why);
+  }
   /// The mapping's file pages present when Enforce() last counted them exactly.
   uint64_t GetLastCountedBytes() const { return this->LastCounted; }
 

@@ -351,7 +351,6 @@ struct Frame
 {
   const OctreeView& V;
   const SelectionInput& In;
-  const float* ConeAngle;
   const ZeroPages<uint64_t>* Cones; // Selector::Cones (see ConeSinCos)
   Policy Model;
   bool Micro;
@@ -456,8 +455,8 @@ inline void ConeSinCos(const Frame& f, int64_t n, float& sinT, float& cosT)
   uint32_t sinBits = uint32_t(packed), cosBits = uint32_t(packed >> 32);
   if (packed == 0)
   {
-    sinT = std::sin(f.ConeAngle[n]);
-    cosT = std::cos(f.ConeAngle[n]);
+    sinT = std::sin(f.V.ConeAngle[n]);
+    cosT = std::cos(f.V.ConeAngle[n]);
     std::memcpy(&sinBits, &sinT, sizeof(float));
     std::memcpy(&cosBits, &cosT, sizeof(float));
     __atomic_store_n(&slot, uint64_t(sinBits) | uint64_t(cosBits) << 32, __ATOMIC_RELAXED);
@@ -485,7 +484,7 @@ Frame MakeFrame(const OctreeView& v, const SelectionInput& in, const ZeroPages<u
     : velocityAlone                ? Policy::VelocityAlone
     : in.Error == ErrorModel::SRCC ? Policy::SRCC
                                    : Policy::Baseline;
-  Frame f{ v, in, v.ConeAngle, cones, model, micro, velocity, { 0, 0, -1 }, false,
+  Frame f{ v, in, cones, model, micro, velocity, { 0, 0, -1 }, false,
     IntegerPower(in.SpecularPower), {}, {}, lights };
   lights.clear();
   if (in.Parallel)
