@@ -5,6 +5,7 @@
 #include "plodOctree.h"
 #include "plodOctreeFile.h"
 #include "plodOctreeSchema.h"
+#include "plodPageLoader.h"
 #include "plodPatches.h"
 #include "plodResidentPages.h"
 
@@ -463,6 +464,9 @@ struct vtkMultiscaleOctree::SourceFileState
   std::shared_ptr<void> Memory;
   plod::ResidentLimit Resident;
   bool WarnedResident = false;
+  // background reads of the pages (SetBackgroundLoading), made at the first GetPageLoader()
+  bool BackgroundLoading = false;
+  std::unique_ptr<plod::PageLoader> Loader;
 };
 
 //------------------------------------------------------------------------------
@@ -502,6 +506,78 @@ std::shared_ptr<plod::CornerMemo> vtkMultiscaleOctree::GetCornerMemo()
     this->CornerMemo = std::make_shared<plod::CornerMemo>();
   }
   return this->CornerMemo;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultiscaleOctree::ReleaseMappedPages()
+{
+  return this->SourceFile && this->SourceFile->Memory &&
+    this->SourceFile->Resident.Release(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctree::SetBackgroundLoading(bool on)
+{
+  if (!this->SourceFile || this->SourceFile->BackgroundLoading == on)
+  {
+    return;
+  }
+  this->SourceFile->BackgroundLoading = on;
+  if (!on)
+  {
+    this->SourceFile->Loader = nullptr; // (joins its thread)
+  }
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultiscaleOctree::GetBackgroundLoading()
+{
+  return this->SourceFile && this->SourceFile->BackgroundLoading;
+}
+
+//------------------------------------------------------------------------------
+plod::PageLoader* vtkMultiscaleOctree::GetPageLoader()
+{
+  SourceFileState* file = this->SourceFile.get();
+  if (!file || !file->BackgroundLoading || !file->Memory)
+  {
+    return nullptr;
+  }
+  if (!file->Loader)
+  {
+    plod::OctreeView view;
+    if (!this->GetCheckedView(view, nullptr, nullptr))
+    {
+      return nullptr;
+    }
+    file->Loader = std::make_unique<plod::PageLoader>();
+    file->Loader->SetOctree(view, file->Memory);
+  }
+  return file->Loader.get();
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkMultiscaleOctree::GetNumberOfBackgroundLoads()
+{
+  plod::PageLoader* loader = this->SourceFile ? this->SourceFile->Loader.get() : nullptr;
+  return loader ? static_cast<vtkIdType>(loader->GetLoaded()) : 0;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkMultiscaleOctree::GetNumberOfWaitingLoads()
+{
+  plod::PageLoader* loader = this->SourceFile ? this->SourceFile->Loader.get() : nullptr;
+  return loader ? static_cast<vtkIdType>(loader->GetWaiting()) : 0;
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctree::WaitForLoads()
+{
+  if (plod::PageLoader* loader = this->SourceFile ? this->SourceFile->Loader.get() : nullptr)
+  {
+    loader->WaitUntilIdle();
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -67,6 +67,7 @@ struct OctreeArrays;
 struct ArraySpec;
 struct FileIdentity;
 struct CornerMemo;
+class PageLoader;
 enum class ArrayGroup : uint8_t;
 enum class ArrayType : uint8_t;
 }
@@ -335,7 +336,32 @@ public:
    * Initialize() and DeepCopy() drop it.
    */
   std::shared_ptr<plod::CornerMemo> GetCornerMemo();
+  /**
+   * The background reader of the mapped file's pages (plod::PageLoader), made at the first
+   * call when SetBackgroundLoading() is on and the octree is mapped and consistent; null
+   * otherwise. Shared by shallow copies (vtkPerceptualLODSelector passes it to its walks).
+   */
+  plod::PageLoader* GetPageLoader();
 #endif
+  /**
+   * Reading the mapped file off the frame (default off; vtkMultiscaleOctreeReader's
+   * BackgroundLoading sets it): a refinement whose pages have not been read is not made in the
+   * frame that first wants it; the selector draws the coarser cell instead and a thread of the
+   * octree's reads the pages, most urgent (coarsest) first; a later frame refines once they are
+   * read (plodPageLoader.h). So the frame never waits on the disk, and the view refines over
+   * the next frames as the pages arrive. The first view is read whole. Off, each frame reads
+   * what it refines, and the same views always draw the same cut. Only a mapped file has pages
+   * to read: otherwise it does nothing. Shared by shallow copies.
+   */
+  void SetBackgroundLoading(bool on);
+  bool GetBackgroundLoading();
+  /// Refinements whose pages the background thread has read so far: when this changes, a new
+  /// selection can refine further (the actor renders again while loads are waiting).
+  vtkIdType GetNumberOfBackgroundLoads();
+  /// Refinements waiting for their pages now.
+  vtkIdType GetNumberOfWaitingLoads();
+  /// Returns once no refinement waits for its pages (for scripts and tests).
+  void WaitForLoads();
   /**
    * Keeps the mapped file's pages that this process holds within the reader's CacheLimit: when
    * they exceed it, they are dropped (the kernel's page cache keeps them while memory allows,
@@ -344,6 +370,10 @@ public:
    * once where the limit cannot be kept (no /proc/self/pagemap).
    */
   void EnforceResidentLimit();
+  /// Drops the mapped file's pages from the process now, as EnforceResidentLimit() does past
+  /// the limit (say, when the application goes idle); false when the octree is not mapped or
+  /// the pages cannot be counted.
+  bool ReleaseMappedPages();
   /// How many times EnforceResidentLimit() dropped the mapped pages (0 without a limit).
   vtkIdType GetNumberOfResidentReleases();
   /// The bytes of the mapped file that this process holds now, counted page by page (-1 when

@@ -151,6 +151,7 @@ int vtkMultiscaleOctreeReader::RequestData(
     output->SetSourceFile(std::make_shared<const plod::FileIdentity>(file.Identity));
     output->SetMappedPages(
       file.Memory, file.MapStart, file.Identity.Size, uint64_t(this->CacheLimit) << 20);
+    output->SetBackgroundLoading(this->BackgroundLoading);
   }
   output->Modified();
   this->Mapped = file.Mapped;
@@ -168,6 +169,7 @@ void vtkMultiscaleOctreeReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "VerifyChecksums: " << this->VerifyChecksums << "\n";
   os << indent << "MemoryMap: " << this->MemoryMap << "\n";
   os << indent << "CacheLimit: " << this->CacheLimit << " MiB\n";
+  os << indent << "BackgroundLoading: " << this->BackgroundLoading << "\n";
   os << indent << "Mapped: " << this->Mapped << "\n";
   os << indent << "Compact: " << this->Compact << "\n";
   os << indent << "ReadTime: " << this->ReadTime << "\n";

@@ -38,6 +38,11 @@
  * next views map again what they read, from the kernel's page cache while memory allows. A file
  * smaller than the limit is never trimmed.
  *
+ * With BackgroundLoading on, a mapped file's pages are read off the frame: a refinement whose
+ * pages have not been read waits, drawn at the coarser cell, while a thread reads them, and a
+ * later frame refines (vtkMultiscaleOctree::SetBackgroundLoading). Frames then never wait on
+ * the disk; the view refines over a few frames after a move into unread parts of the model.
+ *
  * A compact file (vtkMultiscaleOctreeWriter::SetCompact) is not mapped: its arrays are read and
  * decoded into memory when the file is opened, over every core, their checksums always verified
  * (the bytes are read anyway); GetCompact() tells. It then takes the memory of the whole octree
@@ -90,6 +95,17 @@ public:
   vtkGetMacro(CacheLimit, int);
   ///@}
 
+  ///@{
+  /**
+   * Read a mapped file's pages in the background, off the frame (default off: each frame reads
+   * what it refines, and a view always draws the same cut). See
+   * vtkMultiscaleOctree::SetBackgroundLoading. Nothing changes for a file read into memory.
+   */
+  vtkSetMacro(BackgroundLoading, bool);
+  vtkGetMacro(BackgroundLoading, bool);
+  vtkBooleanMacro(BackgroundLoading, bool);
+  ///@}
+
   /// True when the last read mapped the file (false: it was read into memory).
   vtkGetMacro(Mapped, bool);
 
@@ -116,6 +132,7 @@ protected:
   bool VerifyChecksums = false;
   bool MemoryMap = true;
   int CacheLimit = 2048;
+  bool BackgroundLoading = false;
   bool Mapped = false;
   bool Compact = false;
   double ReadTime = 0;

@@ -71,6 +71,8 @@ struct vtkPerceptualLODSelector::Internals
   vtkMTimeType ViewStamp = 0;
   vtkMultiscaleOctree* Input = nullptr;
   vtkMTimeType InputTime = 0;
+  // the input's background loads (vtkMultiscaleOctree::SetBackgroundLoading) as of the last cut
+  vtkIdType LoadsSeen = 0;
 
   /// The output of the last cut, or an empty one (an invalid input keeps the previous cut).
   void RestoreLastCut(vtkMultiscaleOctree* output)
@@ -243,6 +245,20 @@ void vtkPerceptualLODSelector::AddLight(
 }
 
 //------------------------------------------------------------------------------
+vtkMTimeType vtkPerceptualLODSelector::GetMTime()
+{
+  // pages read in the background since the last cut: the next one can refine further
+  auto* input = this->GetNumberOfInputConnections(0) > 0
+    ? vtkMultiscaleOctree::SafeDownCast(this->GetInputDataObject(0, 0))
+    : nullptr;
+  if (input && input->GetNumberOfBackgroundLoads() != this->Internal->LoadsSeen)
+  {
+    this->Modified();
+  }
+  return this->Superclass::GetMTime();
+}
+
+//------------------------------------------------------------------------------
 int vtkPerceptualLODSelector::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -257,6 +273,7 @@ int vtkPerceptualLODSelector::RequestData(
     return 1;
   }
   const auto start = std::chrono::steady_clock::now();
+  this->Internal->LoadsSeen = input->GetNumberOfBackgroundLoads();
   // the parameters checked before anything is touched: a bad one keeps the previous cut
   plod::SelectionInput in;
   std::string problem = this->CheckParameters();
@@ -437,6 +454,8 @@ void vtkPerceptualLODSelector::Select(vtkMultiscaleOctree* input, const plod::Oc
   // one memo of corner walks for the exact count and the patch generator, under the stamp the
   // patch generator passes too (the view's, which the output's shallow copy keeps)
   I.Kernel.SetCornerMemo(input->GetCornerMemo(), viewStamp);
+  // a mapped file's pages read off the frame, when the reader asked for it
+  I.Kernel.SetPageLoader(input->GetPageLoader());
   if (this->MultiThreaded && vtkSMPTools::GetEstimatedNumberOfThreads() > 1)
   {
     I.Kernel.SetParallelFor(plodvtk::SMPRanges());

@@ -9,7 +9,8 @@
  * 1 drawn at the cell's representative vertex, 2 hidden, 3 a leaf opened: drawn at full
  * resolution), "CutReason" (plod::CutReason: 1 accepted on the contour, 2 accepted by
  * brightness, 3 leaf opened, 4 culled, 5 back-facing, 6 accepted by a baseline's error test,
- * 7 accepted by its projected size, 8 left unrefined by the triangle budget) and "CullMask"
+ * 7 accepted by its projected size, 8 left unrefined by the triangle budget, 9 left unrefined
+ * while its pages are read: see vtkMultiscaleOctree::SetBackgroundLoading) and "CullMask"
  * (the frustum planes a culled cell lies outside), and the field array "CutView" (the eye and
  * projection the cut was made for). The cut arrays and "CutView" are the selector's own and are
  * rewritten in place every frame (their modification times change): an output kept from an
@@ -124,6 +125,10 @@ public:
   static vtkPerceptualLODSelector* New();
   vtkTypeMacro(vtkPerceptualLODSelector, vtkMultiscaleOctreeAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Also newer when the input's pages read in the background have changed since the last cut
+  /// (vtkMultiscaleOctree::SetBackgroundLoading): the next cut can then refine further.
+  vtkMTimeType GetMTime() override;
 
   enum ErrorModels
   {

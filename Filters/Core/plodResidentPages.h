@@ -88,6 +88,9 @@ public:
   {
     return this->Data && MeasureMappingResidency(this->Data, this->Bytes, false, out, why);
   }
+  /// Drops the mapping's file pages from the process now, whatever the limit (written pages
+  /// kept); false, with `why`, when none is attached or the page map cannot be read.
+  bool Release(std::string* why) { return this->Data && this->Count(true, why); }
   /// The mapping's file pages present when Enforce() last counted them exactly.
   uint64_t GetLastCountedBytes() const { return this->LastCounted; }
 

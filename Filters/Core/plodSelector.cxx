@@ -375,6 +375,10 @@ struct Frame
   /// The budget walk counts only the owned triangles the patch generator can draw
   /// (CountDrawable): back faces are culled (HideBackFaces) or points are ghosts.
   bool CountDrawn = false;
+  /// The reads of refinements (Selector::SetPageLoader), or null: every refinement is made.
+  PageLoader* Pages = nullptr;
+  /// With Pages: a refinement not read yet is read now (the first view), not asked for.
+  bool WaitForPages = false;
 };
 
 /**
@@ -927,7 +931,7 @@ template <Policy P, bool WithPriority>
  * error exceeds its tolerance); without it, none is computed.
  */
 template <Policy P, bool WithPriority>
-[[gnu::always_inline]] inline Decision Judge(
+[[gnu::always_inline]] inline Decision JudgeCell(
   const Frame& f, int32_t n, const uint32_t C[3], bool brightnessOnly, uint8_t& inside)
 {
   const OctreeView& v = f.V;
@@ -1032,6 +1036,36 @@ template <Policy P, bool WithPriority>
     return JudgeCheng<WithPriority>(f, cell);
   else
     return JudgeWithFactor<P, WithPriority>(f, cell);
+}
+
+/**
+ * JudgeCell, with the pages a refinement reads (Frame::Pages): a refinement whose pages were
+ * not read yet is asked of the loader and the cell is drawn as it is (AwaitingPages), so that
+ * the frame never waits on the disk; for the first view (Frame::WaitForPages) it is read now.
+ * Every walk judges through here, so a cell is never gone below before its pages are read.
+ */
+template <Policy P, bool WithPriority>
+[[gnu::always_inline]] inline Decision Judge(
+  const Frame& f, int32_t n, const uint32_t C[3], bool brightnessOnly, uint8_t& inside)
+{
+  const Decision d = JudgeCell<P, WithPriority>(f, n, C, brightnessOnly, inside);
+  if (d.What != Verdict::Refine || !f.Pages || f.Pages->IsReady(n))
+    return d;
+  if (f.WaitForPages)
+  {
+    f.Pages->LoadNow(n);
+    return d;
+  }
+  f.Pages->Request(n);
+  return Draw(AwaitingPages);
+}
+
+/// `f` with the selector's page loader (Frame::Pages).
+inline Frame WithPages(Frame f, PageLoader* pages, bool wait)
+{
+  f.Pages = pages;
+  f.WaitForPages = wait;
+  return f;
 }
 
 /// Writes cut entries and counts them (both walks).
@@ -1302,6 +1336,15 @@ void Selector::SetOctree(const OctreeView& view)
   this->AheadKey = std::numeric_limits<float>::infinity();
 }
 
+void Selector::SetPageLoader(PageLoader* loader)
+{
+  if (loader != this->Pages)
+  {
+    this->Pages = loader;
+    this->FirstViewRead = false;
+  }
+}
+
 bool Selector::Refines(const SelectionInput& in, int64_t node) const
 {
   if (node < 0 || node >= this->View.NumberOfNodes ||
@@ -1350,6 +1393,10 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
   {
     return;
   }
+  if (this->Pages)
+  {
+    this->Pages->ForgetRequests(); // this frame asks again for what it still needs
+  }
   if (in.TriangleBudget > 0)
   {
     this->Front.clear();
@@ -1377,6 +1424,7 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
   {
     this->SelectDepthFirst(in, state, reason, cullMask, stats);
   }
+  this->FirstViewRead = this->Pages != nullptr;
   // internal invariants (debug builds): on a valid octree the walk writes a valid cut, and the
   // figures count it
   assert(stats.Drawn <= stats.InCut && stats.InCut == int64_t(this->Previous.size()));
@@ -1659,7 +1707,9 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
 [[gnu::flatten]] void Selector::SelectDepthFirst(const SelectionInput& in, uint8_t* state,
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats, DrawnTally* tally)
 {
-  const Frame frame = MakeFrame(this->View, in, &this->Cones, this->FrameLights, &this->Fovea);
+  const Frame frame =
+    WithPages(MakeFrame(this->View, in, &this->Cones, this->FrameLights, &this->Fovea), this->Pages,
+      !this->FirstViewRead);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   // the walk's stack is a member: its capacity is kept from frame to frame
   std::vector<Entry>& stack = this->Stack;
@@ -1790,7 +1840,9 @@ int64_t CoarsenFront(const Frame& frame, std::vector<EntryType>& next, std::vect
 [[gnu::flatten]] void Selector::SelectIncremental(const SelectionInput& in, uint8_t* state,
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
-  const Frame frame = MakeFrame(this->View, in, &this->Cones, this->FrameLights, &this->Fovea);
+  const Frame frame =
+    WithPages(MakeFrame(this->View, in, &this->Cones, this->FrameLights, &this->Fovea), this->Pages,
+      !this->FirstViewRead);
   this->Previous.clear(); // rebuilt below from the new front
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   this->Stack.clear();
@@ -2238,7 +2290,8 @@ void Selector::SelectWithinBudget(const SelectionInput& in, int64_t budget, uint
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
   // (no foveation table: the budget's priorities need the exact factor)
-  const Frame frame = MakeFrame(this->View, in, &this->Cones, this->FrameLights);
+  const Frame frame = WithPages(
+    MakeFrame(this->View, in, &this->Cones, this->FrameLights), this->Pages, !this->FirstViewRead);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   this->Stack.clear();
   this->Queue.clear();

@@ -214,6 +214,7 @@
 
 #include "plodCut.h"
 #include "plodOctree.h"
+#include "plodPageLoader.h"
 #include "plodParallel.h"
 #include "plodPatches.h"
 #include "plodResidentPages.h"
@@ -274,7 +275,8 @@ enum CutReason : uint8_t
   BackFacing = 5,         // whole cone facing away (hidden)
   AcceptedError = 6,      // SCVC, PSEC or Distance test passed
   AcceptedSize = 7,       // its edge projects within the contour tolerance
-  BudgetLimited = 8       // the tolerances would refine it; the triangle budget did not let it
+  BudgetLimited = 8,      // the tolerances would refine it; the triangle budget did not let it
+  AwaitingPages = 9       // the tolerances would refine it; its pages are being read (PageLoader)
 };
 
 /// What the budget walk does with a refinement that does not fit in the room left (see
@@ -509,6 +511,19 @@ public:
     this->CountOptions.For = parallelFor;
   }
 
+  /**
+   * Reads of a mapped octree's pages off the frame (plodPageLoader.h), or null (default): every
+   * refinement the walks make is read when made. With a loader, a cell the tolerances refine
+   * whose refinement was not read yet is drawn as it is, with reason AwaitingPages (the
+   * coarser cell stands in for its children), and asked of the loader; a later frame refines it
+   * once read. The first selection after the loader is set reads what it refines at once (the
+   * first view is drawn whole). Each selection drops the requests the last one left waiting
+   * (PageLoader::ForgetRequests) and asks again for what it still needs. Under a triangle
+   * budget, a cell waits for its pages even when the budget would not refine it, so the loader
+   * reads one level beyond the budget's cut: what a zoom needs next.
+   */
+  void SetPageLoader(PageLoader* loader);
+
   /// Whether the tolerances refine (a leaf: open) the cell `node` judged with every test and no
   /// context from its parent, as the incremental walk judges the cells of the previous cut and
   /// the parents it may coarsen to. For tests and diagnostics; false for an index out of range.
@@ -617,6 +632,9 @@ private:
   std::vector<std::vector<AheadCell>> AheadLists;
   std::vector<std::pair<uint32_t, float>> AheadOpen;
   std::vector<std::vector<std::pair<uint32_t, float>>> AheadStacks;
+  /// SetPageLoader's loader, and whether a selection with it was made (the first view read)
+  PageLoader* Pages = nullptr;
+  bool FirstViewRead = false;
   /// The parallel tolerance walk: the function, and each subtree's stack, cut list, figures and
   /// triangles (capacities kept between frames).
   ParallelFor For;

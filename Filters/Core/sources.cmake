@@ -11,6 +11,7 @@ set(plod_core_sources
   plodOctreeFile.cxx
   plodOctreeSchema.cxx
   plodPartition.cxx
+  plodPageLoader.cxx
   plodPatches.cxx
   plodPieceAssembly.cxx
   plodPieces.cxx
@@ -35,6 +36,7 @@ set(plod_core_headers
   plodPartition.h
   plodPartitionSteps.h
   plodTemporaryFile.h
+  plodPageLoader.h
   plodPatches.h
   plodPieceAssembly.h
   plodPieces.h

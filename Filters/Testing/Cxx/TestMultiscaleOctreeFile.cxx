@@ -4,6 +4,8 @@
 // mapping outliving the reader, copy-on-write edits, and a corrupt-file battery (truncated at
 // many offsets, flipped bytes everywhere in the header and directory and across the data, wrong
 // version, wrong magic, empty and missing files): a clear error and an empty octree, no crash.
+#include "plodPageLoader.h"
+#include "plodSelector.h"
 #include "plodTestUtilities.h"
 
 #include "vtkCommand.h"
@@ -859,6 +861,113 @@ TEST(MultiscaleOctreeFile, CompactFileOfAScanIsLosslessAndSmall)
   {
     std::remove(p.c_str());
   }
+}
+
+TEST(MultiscaleOctreeFile, BackgroundLoadingReadsOffTheFrame)
+{
+  // A mapped file read with BackgroundLoading: the first view is the plain pipeline's; a move
+  // closer while the loader is held draws cells awaiting their pages (an ancestor of what the
+  // plain cut draws); once the reads arrive the pipeline runs again by itself (the selector's
+  // modification time follows the loads) and reaches the plain drawing. Then what the frame
+  // reads of the file: with the pages dropped and every read refinement read again by the
+  // loader, a frame maps no page more.
+  std::FILE* pagemap = std::fopen("/proc/self/pagemap", "rb");
+  if (!pagemap)
+    GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
+  std::fclose(pagemap);
+  auto octree = BuildOctree(160);
+  const std::string path = TempPath("background.plod");
+  ASSERT_TRUE(Write(octree, path));
+  struct Pipeline
+  {
+    vtkNew<vtkMultiscaleOctreeReader> Reader;
+    vtkNew<vtkPerceptualLODSelector> Selector;
+    vtkNew<vtkMultiscalePatchGenerator> Patches;
+    Pipeline(const std::string& file, bool background)
+    {
+      this->Reader->SetFileName(file.c_str());
+      this->Reader->SetCacheLimit(0);
+      this->Reader->SetBackgroundLoading(background);
+      this->Selector->SetInputConnection(this->Reader->GetOutputPort());
+      this->Patches->SetInputConnection(this->Selector->GetOutputPort());
+      this->Selector->SetViewportSize(1920, 1080);
+      this->Selector->ScaleTolerances(0.25);
+    }
+    vtkSmartPointer<vtkPolyData> Draw(double d)
+    {
+      this->Selector->SetEyePosition(0.3 * d, 0.3 * d, d);
+      this->Patches->Update();
+      auto frame = vtkSmartPointer<vtkPolyData>::New();
+      frame->DeepCopy(this->Patches->GetOutput());
+      return frame;
+    }
+    vtkIdType Awaiting()
+    {
+      auto* state = this->Selector->GetOutput()->GetNodeData()->GetArray("CutState");
+      auto* reason = this->Selector->GetOutput()->GetNodeData()->GetArray("CutReason");
+      vtkIdType k = 0;
+      for (vtkIdType n = 0; state && reason && n < state->GetNumberOfTuples(); ++n)
+        k += state->GetTuple1(n) != plod::NotInCut && reason->GetTuple1(n) == plod::AwaitingPages;
+      return k;
+    }
+  };
+  const double far = 3.0, close = 1.2;
+  Pipeline plain(path, false);
+  const auto plainFar = plain.Draw(far), plainClose = plain.Draw(close);
+  ASSERT_GT(plainClose->GetNumberOfPolys(), 0);
+  EXPECT_EQ(plain.Reader->GetOutput()->GetPageLoader(), nullptr);
+
+  Pipeline gated(path, true);
+  EXPECT_TRUE(plodtest::SameDrawing(gated.Draw(far), plainFar)) << "the first view is whole";
+  vtkMultiscaleOctree* mapped = gated.Reader->GetOutput();
+  plod::PageLoader* loader = mapped->GetPageLoader();
+  ASSERT_NE(loader, nullptr);
+  EXPECT_TRUE(mapped->GetBackgroundLoading());
+  loader->SetPaused(true);
+  const auto held = gated.Draw(close);
+  const vtkIdType awaiting = gated.Awaiting();
+  EXPECT_GT(awaiting, 0);
+  EXPECT_EQ(mapped->GetNumberOfWaitingLoads(), awaiting);
+  EXPECT_FALSE(plodtest::SameDrawing(held, plainClose)) << "cells wait, drawn coarser";
+  loader->SetPaused(false);
+  int frames = 0;
+  for (; frames < 50 && (gated.Awaiting() > 0 || mapped->GetNumberOfWaitingLoads() > 0); ++frames)
+  {
+    mapped->WaitForLoads();
+    gated.Patches->Update(); // no Modified(): the loads make the selector run again
+  }
+  EXPECT_GT(frames, 0);
+  EXPECT_EQ(gated.Awaiting(), 0);
+  EXPECT_GT(mapped->GetNumberOfBackgroundLoads(), 0);
+  EXPECT_TRUE(plodtest::SameDrawing(gated.Draw(close), plainClose));
+
+  // what a frame reads of the file: dropped, a frame maps pages again...
+  ASSERT_TRUE(mapped->ReleaseMappedPages());
+  EXPECT_EQ(mapped->GetMappedResidentBytes(), 0);
+  gated.Selector->Modified();
+  gated.Patches->Update();
+  const vtkIdType frameAlone = mapped->GetMappedResidentBytes();
+  EXPECT_GT(frameAlone, 0);
+  // ...and none that the loader's reads of the refinements did not map first
+  ASSERT_TRUE(mapped->ReleaseMappedPages());
+  vtkIdType read = 0;
+  for (vtkIdType n = 0; n < mapped->GetNumberOfNodes(); ++n)
+  {
+    if (loader->IsReady(n))
+    {
+      loader->LoadNow(n);
+      ++read;
+    }
+  }
+  const vtkIdType byLoader = mapped->GetMappedResidentBytes();
+  gated.Selector->Modified();
+  gated.Patches->Update();
+  EXPECT_EQ(mapped->GetMappedResidentBytes(), byLoader) << "the frame read pages not loaded";
+  EXPECT_TRUE(plodtest::SameDrawing(gated.Patches->GetOutput(), plainClose));
+  std::cout << awaiting << " cells awaited their pages; " << frames << " frames to the full cut; "
+            << read << " refinements read; a frame alone maps " << (frameAlone >> 10)
+            << " KiB, the loader " << (byLoader >> 10) << " KiB\n";
+  std::remove(path.c_str());
 }
 
 TEST(MultiscaleOctreeFile, CacheLimitKeepsTheMappedPagesWithinIt)

@@ -1,0 +1,242 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Background reads of refinements (plodPageLoader) and the selection that waits for them
+// (Selector::SetPageLoader): requests are read once, coarsest first; forgotten ones are not
+// read; a selection never goes below a cell whose refinement is not read, draws an ancestor of
+// every cell of the full cut instead, and reaches the full cut once the reads are done.
+#include "plodOctreeBuilder.h"
+#include "plodOctreeStorage.h"
+#include "plodPageLoader.h"
+#include "plodSelector.h"
+#include "plodTinyOctree.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace
+{
+/// A bumpy sphere of `res` x `res` quads, built into `storage`; returns its view.
+plod::OctreeView BuildSphere(plod::OctreeStorage& storage, int res)
+{
+  std::vector<double> points;
+  std::vector<int64_t> triangles;
+  for (int i = 0; i <= res; ++i)
+    for (int j = 0; j < res; ++j)
+    {
+      const double w = M_PI * i / res, u = 2 * M_PI * j / res;
+      const double r = 1.0 + 0.05 * std::sin(7 * u) * std::sin(5 * w);
+      points.insert(points.end(),
+        { r * std::sin(w) * std::cos(u), r * std::sin(w) * std::sin(u), r * std::cos(w) });
+    }
+  for (int i = 0; i < res; ++i)
+    for (int j = 0; j < res; ++j)
+    {
+      const int64_t a = i * res + j, b = i * res + (j + 1) % res, c = a + res, d = b + res;
+      triangles.insert(triangles.end(), { a, b, d, a, d, c });
+    }
+  plod::BuildInput in;
+  in.NumberOfPoints = static_cast<int64_t>(points.size() / 3);
+  in.Points = points.data();
+  in.NumberOfTriangles = static_cast<int64_t>(triangles.size() / 3);
+  in.Triangles = triangles.data();
+  const plod::BuildResult r =
+    plod::BuildOctree(in, plod::BuildParameters(), storage.MakeAllocator());
+  EXPECT_TRUE(r.Ok) << r.Error;
+  return storage.View(r);
+}
+
+/// A viewer at `distance` root edges from the root cell's centre, along +z.
+plod::SelectionInput ViewerAt(const plod::OctreeView& v, double distance)
+{
+  const double c = 0.5 * v.RootEdge;
+  return plodtest::Viewer(c, c, c + distance * v.RootEdge);
+}
+
+/// A cut: state and reason per node.
+struct Cut
+{
+  std::vector<uint8_t> State, Reason, CullMask;
+  explicit Cut(int64_t nodes)
+    : State(nodes, plod::NotInCut)
+    , Reason(nodes, plod::ReasonNone)
+    , CullMask(nodes, 0)
+  {
+  }
+  plod::SelectionStats Stats;
+  void Select(plod::Selector& s, const plod::SelectionInput& in)
+  {
+    plod::SelectionStats& stats = this->Stats;
+    s.Select(in, this->State.data(), this->Reason.data(), this->CullMask.data(), stats);
+  }
+  int64_t Count(uint8_t reason) const
+  {
+    int64_t k = 0;
+    for (size_t n = 0; n < this->State.size(); ++n)
+      k += this->State[n] != plod::NotInCut && this->Reason[n] == reason ? 1 : 0;
+    return k;
+  }
+};
+
+/// Whether node `n` or one of its ancestors is in `cut`.
+bool AncestorInCut(const plod::OctreeView& v, const Cut& cut, int64_t n)
+{
+  for (; n >= 0; n = v.Parent[n])
+    if (cut.State[n] != plod::NotInCut)
+      return true;
+  return false;
+}
+
+/// Every node the cut goes below (an ancestor of a cut node) or opens is read.
+void ExpectRefinementsRead(const plod::OctreeView& v, const Cut& cut, const plod::PageLoader& l)
+{
+  for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+  {
+    if (cut.State[n] == plod::CutOpen)
+    {
+      EXPECT_TRUE(l.IsReady(n)) << "leaf " << n << " opened before it was read";
+    }
+    if (cut.State[n] != plod::NotInCut && v.Parent[n] >= 0)
+    {
+      EXPECT_TRUE(l.IsReady(v.Parent[n])) << "node " << v.Parent[n] << " refined unread";
+    }
+  }
+}
+} // namespace
+
+TEST(PageLoader, RequestsAreReadOnceCoarsestFirst)
+{
+  plod::OctreeStorage storage;
+  const plod::OctreeView v = BuildSphere(storage, 40);
+  ASSERT_GT(v.NumberOfNodes, 100);
+  int64_t deep = v.NumberOfNodes - 1;
+  ASSERT_GE(v.Level[deep], 3);
+  plod::PageLoader loader;
+  loader.SetOctree(v, nullptr);
+  EXPECT_FALSE(loader.IsReady(0));
+  EXPECT_EQ(loader.GetLastLoaded(), -1);
+  loader.SetPaused(true);
+  loader.Request(deep);
+  loader.Request(0);
+  loader.Request(deep); // asked twice: one request
+  EXPECT_EQ(loader.GetWaiting(), 2u);
+  loader.WaitUntilIdle(); // paused: returns at once
+  EXPECT_FALSE(loader.IsReady(deep));
+  loader.SetPaused(false);
+  loader.WaitUntilIdle();
+  EXPECT_TRUE(loader.IsReady(0));
+  EXPECT_TRUE(loader.IsReady(deep));
+  EXPECT_EQ(loader.GetLoaded(), 2u);
+  EXPECT_EQ(loader.GetLastLoaded(), deep) << "the root, coarser, is read first";
+  EXPECT_GT(loader.GetPagesTouched(), 0u);
+  loader.Request(deep); // read: nothing to do
+  EXPECT_EQ(loader.GetWaiting(), 0u);
+  // out of range: refused quietly
+  loader.Request(-1);
+  loader.Request(v.NumberOfNodes);
+  EXPECT_FALSE(loader.IsReady(-1));
+  EXPECT_FALSE(loader.IsReady(v.NumberOfNodes));
+  EXPECT_EQ(loader.GetWaiting(), 0u);
+}
+
+TEST(PageLoader, ForgottenRequestsAreNotRead)
+{
+  plod::OctreeStorage storage;
+  const plod::OctreeView v = BuildSphere(storage, 30);
+  plod::PageLoader loader;
+  loader.SetOctree(v, nullptr);
+  loader.SetPaused(true);
+  loader.Request(1);
+  loader.Request(2);
+  loader.ForgetRequests();
+  EXPECT_EQ(loader.GetWaiting(), 0u);
+  loader.SetPaused(false);
+  loader.WaitUntilIdle();
+  EXPECT_FALSE(loader.IsReady(1));
+  EXPECT_FALSE(loader.IsReady(2));
+  EXPECT_EQ(loader.GetLoaded(), 0u);
+  loader.Request(2); // asked again after being forgotten: read
+  loader.WaitUntilIdle();
+  EXPECT_TRUE(loader.IsReady(2));
+  EXPECT_EQ(loader.GetLoaded(), 1u);
+  // read in the caller's thread: ready, not counted as the background's
+  loader.LoadNow(1);
+  EXPECT_TRUE(loader.IsReady(1));
+  EXPECT_EQ(loader.GetLoaded(), 1u);
+  // a new octree: nothing read
+  loader.SetOctree(v, nullptr);
+  EXPECT_FALSE(loader.IsReady(1));
+  EXPECT_FALSE(loader.IsReady(2));
+}
+
+TEST(PageLoader, SelectionDrawsAncestorsUntilTheReadsArrive)
+{
+  plod::OctreeStorage storage;
+  const plod::OctreeView v = BuildSphere(storage, 80);
+  for (const bool budget : { false, true })
+  {
+    SCOPED_TRACE(budget ? "triangle budget" : "tolerances");
+    plod::SelectionInput far = ViewerAt(v, 3.0), close = ViewerAt(v, 0.7);
+    close.PixelScale = far.PixelScale = 4000;
+    if (budget)
+      far.TriangleBudget = close.TriangleBudget = 1500;
+    // the cuts without a loader
+    plod::Selector plain;
+    plain.SetOctree(v);
+    Cut farCut(v.NumberOfNodes), closeCut(v.NumberOfNodes);
+    farCut.Select(plain, far);
+    plain.SetOctree(v);
+    closeCut.Select(plain, close);
+    ASSERT_EQ(closeCut.Count(plod::AwaitingPages), 0);
+    EXPECT_EQ(closeCut.Stats.BudgetBinding, budget) << "the budget should bind";
+
+    plod::PageLoader loader;
+    loader.SetOctree(v, nullptr);
+    plod::Selector gated;
+    gated.SetOctree(v);
+    gated.SetPageLoader(&loader);
+    Cut cut(v.NumberOfNodes);
+    // 1. the first view is read whole, in the frame: the plain cut
+    cut.Select(gated, far);
+    EXPECT_EQ(cut.State, farCut.State);
+    EXPECT_EQ(cut.Reason, farCut.Reason);
+    EXPECT_EQ(loader.GetWaiting(), 0u);
+    EXPECT_EQ(loader.GetLoaded(), 0u);
+    ExpectRefinementsRead(v, cut, loader);
+    // 2. closer, the reads held: what is not read waits, drawn at an ancestor
+    loader.SetPaused(true);
+    cut.Select(gated, close);
+    const int64_t awaiting = cut.Count(plod::AwaitingPages);
+    EXPECT_GT(awaiting, 0);
+    EXPECT_EQ(loader.GetWaiting(), uint64_t(awaiting));
+    ExpectRefinementsRead(v, cut, loader);
+    for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+    {
+      if (cut.State[n] != plod::NotInCut && cut.Reason[n] == plod::AwaitingPages)
+      {
+        EXPECT_FALSE(loader.IsReady(n));
+      }
+      if (closeCut.State[n] != plod::NotInCut)
+      {
+        EXPECT_TRUE(AncestorInCut(v, cut, n)) << "node " << n << " has no ancestor drawn";
+      }
+    }
+    // 3. reads let go: each frame refines further, until the plain cut
+    loader.SetPaused(false);
+    int frames = 0;
+    for (; frames <= 2 * plod::MaxFinestLevel && cut.Count(plod::AwaitingPages) > 0; ++frames)
+    {
+      loader.WaitUntilIdle();
+      cut.Select(gated, close);
+      ExpectRefinementsRead(v, cut, loader);
+    }
+    EXPECT_GT(frames, 0);
+    EXPECT_EQ(cut.Count(plod::AwaitingPages), 0);
+    EXPECT_EQ(cut.State, closeCut.State);
+    EXPECT_EQ(cut.Reason, closeCut.Reason);
+    EXPECT_GT(loader.GetLoaded(), 0u);
+    std::cout << (budget ? "budget: " : "tolerances: ") << awaiting
+              << " cells waited at first; the full cut after " << frames << " more frames, "
+              << loader.GetLoaded() << " refinements read in the background\n";
+  }
+}

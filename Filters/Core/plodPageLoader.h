@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file plodPageLoader.h
+ * @brief VTK-free background reads of a mapped octree's pages, so that a frame never waits on
+ * the disk.
+ *
+ * A mapped octree file (plodOctreeFile.h) is read where the views look: a page that is not in
+ * memory is read from the disk by the first access, in the thread that makes it. When that
+ * thread is the frame's, the frame waits. PageLoader moves those reads to a thread of its own,
+ * one refinement at a time:
+ *
+ * - **What a refinement reads.** Refining node n (the selector puts its children in the cut, or
+ *   opens a leaf) makes the selection and the patch generator read: every node array at n's
+ *   children (and at the node after them, whose first indices end theirs), every cluster array
+ *   at the children's clusters, the triangles n owns, and for each of their corners every point
+ *   array at the corner and every cluster array along the corner's walk from its leaf cluster up
+ *   to the children's level (plodPatches.h). Load() reads one byte of each page of all that,
+ *   and of n's own node and clusters, then marks n ready. The cells the cut already draws were
+ *   read by the refinements that put them there (the root, by the first view).
+ * - **Ready flags**, one byte a node (plod::ZeroPages: memory only where the views have been),
+ *   set once a node's refinement has been read, never cleared: the pages then are in the
+ *   kernel's page cache, and a cache limit that drops them from the process (plodResidentPages.h)
+ *   costs a minor fault, not a read of the disk. A page the kernel evicts under memory pressure
+ *   is read again by whoever touches it first.
+ * - **Requests** come from the selection (plodSelector.h, Selector::SetPageLoader): a node the
+ *   tolerances would refine whose refinement is not ready is drawn as it is (its ancestor's
+ *   level, reason AwaitingPages) and requested. The loader takes the coarsest requested level
+ *   first (a coarser refinement is seen over more of the screen, and opens the way to the finer
+ *   ones), in the order asked within a level. ForgetRequests() drops what no one has started,
+ *   so each frame asks again for what it still needs and a view left behind is not loaded.
+ * - **Progress**: GetLoaded() counts the nodes made ready in the background; when it changes,
+ *   the next selection can refine further (vtkPerceptualLODSelector re-executes then, and the
+ *   actor renders again while loads are pending).
+ *
+ * Thread safety: Request(), IsReady(), LoadNow(), ForgetRequests() and the figures may be called
+ * from any thread, at once; SetOctree() only while no other call runs. The view's arrays must
+ * stay valid while the loader exists (SetOctree keeps `keepAlive`, the map's owner).
+ */
+#ifndef plodPageLoader_h
+#define plodPageLoader_h
+
+#include "plodOctree.h"
+#include "plodResidentPages.h"
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace plod
+{
+
+class PageLoader
+{
+public:
+  PageLoader();
+  /// Stops the thread (a read in progress is finished first).
+  ~PageLoader();
+  PageLoader(const PageLoader&) = delete;
+  PageLoader& operator=(const PageLoader&) = delete;
+
+  /// The octree whose refinements are read; drops every flag and request. `keepAlive` owns the
+  /// memory the view's arrays point into.
+  void SetOctree(const OctreeView& view, std::shared_ptr<const void> keepAlive);
+
+  /// Whether node `n`'s refinement has been read (false for a node out of range).
+  bool IsReady(int64_t n) const
+  {
+    return n >= 0 && static_cast<size_t>(n) < this->Flags.size() &&
+      (__atomic_load_n(&this->Flags[n], __ATOMIC_ACQUIRE) & FlagReady) != 0;
+  }
+  /// Asks for node `n`'s refinement to be read in the background; asked again before it is,
+  /// it is one request.
+  void Request(int64_t n);
+  /// Reads node `n`'s refinement now, in the calling thread (again if it was read), and marks
+  /// it ready.
+  void LoadNow(int64_t n);
+  /// Drops the requests no read has started on.
+  void ForgetRequests();
+
+  /// While paused, requests wait and the thread reads nothing (a read in progress ends first).
+  void SetPaused(bool paused);
+  /// Returns once no request waits and no read runs (at once when paused with none running).
+  void WaitUntilIdle();
+
+  /// The node the background thread read last (-1 before any): which request went first.
+  int64_t GetLastLoaded() const { return this->LastLoaded.load(); }
+  /// Nodes made ready by the background thread so far.
+  uint64_t GetLoaded() const { return this->Loaded.load(); }
+  /// Requests waiting now.
+  uint64_t GetWaiting() const;
+  /// Pages the reads touched so far (background and LoadNow), and the major page faults the
+  /// background thread took (reads of the disk; getrusage RUSAGE_THREAD).
+  uint64_t GetPagesTouched() const { return this->PagesTouched.load(); }
+  uint64_t GetMajorFaults() const { return this->MajorFaults.load(); }
+
+private:
+  static constexpr uint8_t FlagReady = 1;
+  static constexpr uint8_t FlagRequested = 2;
+
+  /// Reads node `n`'s refinement (see the file documentation).
+  void Load(int64_t n);
+  /// Reads one byte of each page of tuples [first, end) of every array of `group`.
+  void TouchTuples(ArrayGroup group, int64_t first, int64_t end);
+  /// Reads the corner's point arrays and its walk's clusters up to level `level`.
+  void TouchCornerWalk(int64_t point, int level);
+  void MarkReady(int64_t n);
+  void Run();
+
+  OctreeView View;
+  std::shared_ptr<const void> KeepAlive;
+  /// per array of the view: its group, start and bytes per tuple
+  struct Array
+  {
+    ArrayGroup Group;
+    const char* Data;
+    size_t TupleBytes;
+  };
+  std::vector<Array> Arrays;
+  ZeroPages<uint8_t> Flags;
+
+  mutable std::mutex Mutex;
+  std::condition_variable Wake, Idle;
+  std::vector<std::deque<int64_t>> Queue; // per level
+  uint64_t Waiting = 0;
+  bool Running = false; // a read in progress
+  bool Paused = false;
+  bool Stop = false;
+  std::thread Thread;
+
+  std::atomic<uint64_t> Loaded{ 0 };
+  std::atomic<int64_t> LastLoaded{ -1 };
+  std::atomic<uint64_t> PagesTouched{ 0 };
+  std::atomic<uint64_t> MajorFaults{ 0 };
+};
+
+} // namespace plod
+
+#endif
