@@ -15,6 +15,8 @@
 #include "vtkPerceptualLODRenderBinding.h"
 #include "vtkPerceptualLODSelector.h"
 #include "vtkPolyDataMapper.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
 #include "vtkTrivialProducer.h"
 
@@ -41,6 +43,9 @@ vtkPerceptualLODActor::vtkPerceptualLODActor()
   this->OnRendererDeleted = vtkCallbackCommand::New();
   this->OnRendererDeleted->SetCallback(&vtkPerceptualLODActor::RendererDeleted);
   this->OnRendererDeleted->SetClientData(this);
+  this->OnRefreshTimer = vtkCallbackCommand::New();
+  this->OnRefreshTimer->SetCallback(&vtkPerceptualLODActor::RefreshTimerFired);
+  this->OnRefreshTimer->SetClientData(this);
   vtkMath::UninitializeBounds(this->ModelBounds);
 }
 
@@ -55,6 +60,15 @@ vtkPerceptualLODActor::~vtkPerceptualLODActor()
   }
   this->Bindings.clear();
   this->OnRendererDeleted->Delete();
+  if (this->RefreshInteractor)
+  {
+    if (this->RefreshTimer >= 0)
+    {
+      this->RefreshInteractor->DestroyTimer(this->RefreshTimer);
+    }
+    this->RefreshInteractor->RemoveObserver(this->OnRefreshTimer);
+  }
+  this->OnRefreshTimer->Delete();
   this->Superclass::SetMapper(nullptr);
   this->Device->Delete();
   this->DeviceMatrix->Delete();
@@ -341,6 +355,58 @@ void vtkPerceptualLODActor::Render(vtkRenderer* renderer, vtkMapper* mapper)
   this->DrewOnGPU = mapper == this->GPUMapper;
   this->Device->Render(renderer, mapper);
   this->EstimatedRenderTime = mapper->GetTimeToDraw();
+  this->RenderAgainWhileLoading(renderer);
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::RenderAgainWhileLoading(vtkRenderer* renderer)
+{
+  auto* octree = this->Selector->GetNumberOfInputConnections(0) > 0
+    ? vtkMultiscaleOctree::SafeDownCast(this->Selector->GetInputDataObject(0, 0))
+    : nullptr;
+  if (!octree || !octree->GetBackgroundLoading())
+  {
+    return;
+  }
+  // loads waiting, or read since this render's cut was selected (the selector's next cut
+  // refines)
+  const vtkIdType loads = octree->GetNumberOfBackgroundLoads();
+  const bool refine = octree->GetNumberOfWaitingLoads() > 0 || loads != this->LoadsRendered;
+  this->LoadsRendered = loads;
+  vtkRenderWindow* window = renderer->GetRenderWindow();
+  vtkRenderWindowInteractor* interactor = window ? window->GetInteractor() : nullptr;
+  if (!refine || !interactor || this->RefreshTimer >= 0)
+  {
+    return;
+  }
+  if (this->RefreshInteractor != interactor)
+  {
+    if (this->RefreshInteractor)
+    {
+      this->RefreshInteractor->RemoveObserver(this->OnRefreshTimer);
+    }
+    this->RefreshInteractor = interactor;
+    interactor->AddObserver(vtkCommand::TimerEvent, this->OnRefreshTimer);
+  }
+  this->RefreshWindow = window;
+  const int timer =
+    interactor->CreateOneShotTimer(static_cast<unsigned long>(this->RefreshInterval));
+  this->RefreshTimer = timer > 0 ? timer : -1; // (0: the interactor has no timers)
+}
+
+//------------------------------------------------------------------------------
+void vtkPerceptualLODActor::RefreshTimerFired(vtkObject*, unsigned long, void* client, void* data)
+{
+  auto* self = static_cast<vtkPerceptualLODActor*>(client);
+  if (!data || self->RefreshTimer < 0 || *static_cast<int*>(data) != self->RefreshTimer)
+  {
+    return;
+  }
+  self->RefreshTimer = -1;
+  if (self->RefreshWindow)
+  {
+    self->RefreshWindow->Render();
+  }
 }
 
 //------------------------------------------------------------------------------

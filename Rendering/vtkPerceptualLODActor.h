@@ -41,6 +41,12 @@
  *   keeps the octree's surface on the device and sends each frame only the cut's changes
  *   (vtkPerceptualLODMapper); where the context lacks a feature it needs, the actor draws through
  *   the CPU path and warns once, naming the feature.
+ * - **Background loading** (vtkMultiscaleOctreeReader::SetBackgroundLoading): while pages of
+ *   the cut are being read, or were read since the last cut, the actor asks the render
+ *   window's interactor for another render shortly after each render (a one-shot timer of
+ *   RefreshInterval milliseconds), so that the view refines as the pages arrive without the
+ *   application rendering again. Without an interactor (offscreen scripts) the application
+ *   renders when it likes; vtkMultiscaleOctree::GetNumberOfWaitingLoads() tells whether to.
  * - SetMapper() is ignored with a warning: the actor's mapper is its own.
  *
  * @sa vtkPerceptualLODRenderBinding vtkPerceptualLODSelector vtkMultiscaleOctreeReader
@@ -50,6 +56,7 @@
 
 #include "PerceptualLODRenderingModule.h" // for export macro
 #include "vtkActor.h"
+#include "vtkWeakPointer.h" // for the interactor asked to render again
 
 #include <functional> // for the clock
 #include <map>        // for the per-renderer state
@@ -64,6 +71,8 @@ class vtkMultiscalePatchGenerator;
 class vtkPerceptualLODMapper;
 class vtkPerceptualLODRenderBinding;
 class vtkRenderer;
+class vtkRenderWindow;
+class vtkRenderWindowInteractor;
 class vtkPerceptualLODSelector;
 class vtkPolyDataMapper;
 class vtkTrivialProducer;
@@ -143,6 +152,13 @@ public:
   void SetClock(std::function<double()> clock);
 #endif
 
+  ///@{
+  /// Milliseconds between the renders the actor asks for while pages are read in the
+  /// background (see "Background loading" above). Default 50.
+  vtkSetClampMacro(RefreshInterval, int, 1, 10000);
+  vtkGetMacro(RefreshInterval, int);
+  ///@}
+
   /// The binding that feeds the selector for `renderer` (null before it first rendered there).
   /// It lives as long as the renderer (see GetNumberOfBindings()).
   vtkPerceptualLODRenderBinding* GetBinding(vtkRenderer* renderer);
@@ -193,6 +209,11 @@ protected:
   void Connect(vtkAlgorithmOutput* input);
   /// Feeds the selector for `renderer` (its own binding, made on first use).
   void Feed(vtkViewport* viewport);
+  /// After a render in `renderer`: while the cut's pages are read in the background, asks the
+  /// window's interactor for another render (a one-shot timer; one at a time).
+  void RenderAgainWhileLoading(vtkRenderer* renderer);
+  /// TimerEvent of the interactor: renders the window again when the timer is the actor's.
+  static void RefreshTimerFired(vtkObject* caller, unsigned long, void* client, void* callData);
   /// DeleteEvent of a renderer with a binding: drops the binding.
   static void RendererDeleted(vtkObject* caller, unsigned long, void* client, void*);
 
@@ -224,6 +245,13 @@ protected:
   };
   std::map<const void*, RendererBinding> Bindings;
   vtkCallbackCommand* OnRendererDeleted = nullptr;
+  // the render asked for while loading: its interactor (observed, never held), timer and window
+  int RefreshInterval = 50;
+  vtkCallbackCommand* OnRefreshTimer = nullptr;
+  vtkWeakPointer<vtkRenderWindowInteractor> RefreshInteractor;
+  vtkWeakPointer<vtkRenderWindow> RefreshWindow;
+  int RefreshTimer = -1;
+  vtkIdType LoadsRendered = 0;
 
 private:
   vtkPerceptualLODActor(const vtkPerceptualLODActor&) = delete;

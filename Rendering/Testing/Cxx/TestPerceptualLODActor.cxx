@@ -2,7 +2,9 @@
 // vtkPerceptualLODActor: ResetCamera() fits the whole model (mesh, cloud, octree, moved actor);
 // the image is the three-filter pipeline's with a binding, pixel for pixel; an octree input
 // skips the build; two renderers each get their own cut; a foreign mapper is refused; a
-// deleted renderer takes its binding away.
+// deleted renderer takes its binding away; while pages are read in the background, the actor
+// asks the interactor for renders until the cut is whole.
+#include "plodPageLoader.h"
 #include "plodTestUtilities.h"
 
 #include "vtkActor.h"
@@ -16,6 +18,7 @@
 #include "vtkMultiscaleOctreeWriter.h"
 #include "vtkMultiscalePatchGenerator.h"
 #include "vtkNew.h"
+#include "vtkObjectFactory.h"
 #include "vtkPerceptualLODActor.h"
 #include "vtkPerceptualLODMapper.h"
 #include "vtkPerceptualLODRenderBinding.h"
@@ -25,6 +28,7 @@
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
+#include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
@@ -82,6 +86,26 @@ double Size(const double b[6])
   return std::sqrt(
     (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
 }
+
+/// An interactor whose timers never fire by themselves: it records the one-shot timers asked
+/// of it, and the test fires them (TimerEvent with the timer's id, as a platform's loop does).
+class RecordingInteractor : public vtkRenderWindowInteractor
+{
+public:
+  static RecordingInteractor* New();
+  vtkTypeMacro(RecordingInteractor, vtkRenderWindowInteractor);
+  std::vector<int> OneShots;
+
+protected:
+  int InternalCreateTimer(int timerId, int timerType, unsigned long) override
+  {
+    if (timerType == vtkRenderWindowInteractor::OneShotTimer)
+      this->OneShots.push_back(timerId);
+    return timerId;
+  }
+  int InternalDestroyTimer(int) override { return 1; }
+};
+vtkStandardNewMacro(RecordingInteractor);
 
 int Lit(const std::vector<unsigned char>& image)
 {
@@ -206,6 +230,71 @@ TEST(PerceptualLODActor, OctreeInputSkipsTheBuildAndDrawsTheSame)
   EXPECT_EQ(a1->GetPatchGenerator()->GetNumberOfTriangles(),
     a2->GetPatchGenerator()->GetNumberOfTriangles());
   EXPECT_EQ(i1, i2);
+  std::remove(path.c_str());
+}
+
+TEST(PerceptualLODActor, RendersAgainWhilePagesAreRead)
+{
+  // A mapped octree read in the background: after a render that leaves cells awaiting their
+  // pages, the actor asks the window's interactor for one more render (one timer at a time);
+  // each such render refines further, until the actor's cut is a plain reader's.
+  auto blob = plodtest::MakeBlob(5, 80, 0.3);
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(blob);
+  const std::string path = "/tmp/plod_actor_bg_" + std::to_string(::getpid()) + ".plod";
+  vtkNew<vtkMultiscaleOctreeWriter> writer;
+  writer->SetInputConnection(builder->GetOutputPort());
+  writer->SetFileName(path.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+  vtkNew<vtkMultiscaleOctreeReader> plainReader, reader;
+  plainReader->SetFileName(path.c_str());
+  reader->SetFileName(path.c_str());
+  reader->SetBackgroundLoading(true);
+
+  Scene plain, streamed;
+  vtkNew<vtkPerceptualLODActor> plainActor, actor;
+  plainActor->SetInputConnection(plainReader->GetOutputPort());
+  actor->SetInputConnection(reader->GetOutputPort());
+  plain.Renderer->AddActor(plainActor);
+  streamed.Renderer->AddActor(actor);
+  vtkNew<RecordingInteractor> interactor;
+  interactor->SetRenderWindow(streamed.Window);
+  plain.Renderer->ResetCamera();
+  streamed.Renderer->ResetCamera();
+  streamed.Window->Render(); // the first view: read whole, nothing waits
+  EXPECT_TRUE(interactor->OneShots.empty());
+  plod::PageLoader* loader = reader->GetOutput()->GetPageLoader();
+  ASSERT_NE(loader, nullptr);
+  loader->SetPaused(true);
+  for (Scene* s : { &plain, &streamed })
+    s->Renderer->GetActiveCamera()->Dolly(4.0);
+  streamed.Renderer->ResetCameraClippingRange();
+  plain.Renderer->ResetCameraClippingRange();
+  streamed.Window->Render();
+  EXPECT_GT(reader->GetOutput()->GetNumberOfWaitingLoads(), 0);
+  ASSERT_EQ(interactor->OneShots.size(), 1u);
+  streamed.Window->Render(); // its timer has not fired: no second one
+  EXPECT_EQ(interactor->OneShots.size(), 1u);
+  plain.Window->Render();
+  EXPECT_LT(actor->GetPatchGenerator()->GetNumberOfTriangles(),
+    plainActor->GetPatchGenerator()->GetNumberOfTriangles());
+  loader->SetPaused(false);
+  size_t fired = 0;
+  for (; fired < interactor->OneShots.size() && fired < 50; ++fired)
+  {
+    reader->GetOutput()->WaitForLoads();
+    int id = interactor->OneShots[fired];
+    interactor->InvokeEvent(vtkCommand::TimerEvent, &id); // renders the window
+  }
+  EXPECT_GT(fired, 1u);
+  EXPECT_EQ(fired, interactor->OneShots.size()) << "the renders asked for stop";
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfWaitingLoads(), 0);
+  EXPECT_TRUE(plodtest::SameDrawing(
+    actor->GetPatchGenerator()->GetOutput(), plainActor->GetPatchGenerator()->GetOutput()));
+  // another timer's event is not the actor's
+  int other = 12345;
+  interactor->InvokeEvent(vtkCommand::TimerEvent, &other);
+  EXPECT_EQ(interactor->OneShots.size(), fired);
   std::remove(path.c_str());
 }
 
