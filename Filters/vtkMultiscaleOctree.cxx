@@ -565,6 +565,13 @@ vtkIdType vtkMultiscaleOctree::GetNumberOfBackgroundLoads()
 }
 
 //------------------------------------------------------------------------------
+vtkIdType vtkMultiscaleOctree::GetNumberOfBackgroundMajorFaults()
+{
+  plod::PageLoader* loader = this->SourceFile ? this->SourceFile->Loader.get() : nullptr;
+  return loader ? static_cast<vtkIdType>(loader->GetMajorFaults()) : 0;
+}
+
+//------------------------------------------------------------------------------
 vtkIdType vtkMultiscaleOctree::GetNumberOfWaitingLoads()
 {
   plod::PageLoader* loader = this->SourceFile ? this->SourceFile->Loader.get() : nullptr;

@@ -358,6 +358,9 @@ public:
   /// Refinements whose pages the background thread has read so far: when this changes, a new
   /// selection can refine further (the actor renders again while loads are waiting).
   vtkIdType GetNumberOfBackgroundLoads();
+  /// Major page faults (reads of the disk) the background thread has taken so far: the
+  /// process's own (getrusage) less these are the frames' waits on the disk.
+  vtkIdType GetNumberOfBackgroundMajorFaults();
   /// Refinements waiting for their pages now.
   vtkIdType GetNumberOfWaitingLoads();
   /// Returns once no refinement waits for its pages (for scripts and tests).

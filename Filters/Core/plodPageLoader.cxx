@@ -53,6 +53,7 @@ void PageLoader::SetOctree(const OctreeView& view, std::shared_ptr<const void> k
   for (std::deque<int64_t>& level : this->Queue)
     level.clear();
   this->Waiting = 0;
+  this->Preloads.clear();
   this->Idle.wait(lock, [this] { return !this->Running; });
   this->View = view;
   this->KeepAlive = std::move(keepAlive);
@@ -81,6 +82,20 @@ void PageLoader::Request(int64_t n)
     const int level = std::min<int>(this->View.Level[n], MaxFinestLevel);
     this->Queue[level].push_back(n);
     ++this->Waiting;
+    if (!this->Thread.joinable())
+      this->Thread = std::thread([this] { this->Run(); });
+  }
+  this->Wake.notify_one();
+}
+
+void PageLoader::Preload(int64_t n)
+{
+  if (n < 0 || static_cast<size_t>(n) >= this->Flags.size())
+    return;
+  this->MarkReady(n);
+  {
+    std::lock_guard<std::mutex> lock(this->Mutex);
+    this->Preloads.push_back(n);
     if (!this->Thread.joinable())
       this->Thread = std::thread([this] { this->Run(); });
   }
@@ -123,8 +138,10 @@ void PageLoader::SetPaused(bool paused)
 void PageLoader::WaitUntilIdle()
 {
   std::unique_lock<std::mutex> lock(this->Mutex);
-  this->Idle.wait(
-    lock, [this] { return !this->Running && (this->Waiting == 0 || this->Paused || this->Stop); });
+  this->Idle.wait(lock, [this] {
+    return !this->Running &&
+      ((this->Waiting == 0 && this->Preloads.empty()) || this->Paused || this->Stop);
+  });
 }
 
 uint64_t PageLoader::GetWaiting() const
@@ -212,7 +229,9 @@ void PageLoader::Run()
   std::unique_lock<std::mutex> lock(this->Mutex);
   while (true)
   {
-    this->Wake.wait(lock, [this] { return this->Stop || (!this->Paused && this->Waiting > 0); });
+    this->Wake.wait(lock, [this] {
+      return this->Stop || (!this->Paused && (this->Waiting > 0 || !this->Preloads.empty()));
+    });
     if (this->Stop)
       return;
     int64_t n = -1;
@@ -225,17 +244,26 @@ void PageLoader::Run()
         break;
       }
     }
-    if (n < 0)
+    bool load = true;
+    if (n >= 0)
+    {
+      --this->Waiting;
+      load = !this->IsReady(n);
+    }
+    else if (!this->Preloads.empty()) // (after every request)
+    {
+      n = this->Preloads.front();
+      this->Preloads.pop_front();
+      load = false; // (ready already: not counted as a load the cut waits for)
+    }
+    else
     {
       this->Waiting = 0; // (never: the count follows the queues)
       continue;
     }
-    --this->Waiting;
     this->Running = true;
     lock.unlock();
-    const bool load = !this->IsReady(n);
-    if (load)
-      this->Load(n);
+    this->Load(n); // (a request read meanwhile by LoadNow is read again: harmless)
     this->MarkReady(n);
     if (load)
     {

@@ -76,6 +76,12 @@ public:
   /// Asks for node `n`'s refinement to be read in the background; asked again before it is,
   /// it is one request.
   void Request(int64_t n);
+  /**
+   * Marks node `n` ready now and reads its refinement in the background after every request
+   * (ForgetRequests() leaves it): for a refinement the caller has read itself, in part (the
+   * first view, read in the frame, skips what it culls), so that the rest follows.
+   */
+  void Preload(int64_t n);
   /// Reads node `n`'s refinement now, in the calling thread (again if it was read), and marks
   /// it ready.
   void LoadNow(int64_t n);
@@ -84,14 +90,15 @@ public:
 
   /// While paused, requests wait and the thread reads nothing (a read in progress ends first).
   void SetPaused(bool paused);
-  /// Returns once no request waits and no read runs (at once when paused with none running).
+  /// Returns once no request or preload waits and no read runs (at once when paused with none
+  /// running).
   void WaitUntilIdle();
 
   /// The node the background thread read last (-1 before any): which request went first.
   int64_t GetLastLoaded() const { return this->LastLoaded.load(); }
   /// Nodes made ready by the background thread so far.
   uint64_t GetLoaded() const { return this->Loaded.load(); }
-  /// Requests waiting now.
+  /// Requests waiting now (not preloads).
   uint64_t GetWaiting() const;
   /// Pages the reads touched so far (background and LoadNow), and the major page faults the
   /// background thread took (reads of the disk; getrusage RUSAGE_THREAD).
@@ -126,6 +133,7 @@ private:
   mutable std::mutex Mutex;
   std::condition_variable Wake, Idle;
   std::vector<std::deque<int64_t>> Queue; // per level
+  std::deque<int64_t> Preloads;
   uint64_t Waiting = 0;
   bool Running = false; // a read in progress
   bool Paused = false;

@@ -377,7 +377,8 @@ struct Frame
   bool CountDrawn = false;
   /// The reads of refinements (Selector::SetPageLoader), or null: every refinement is made.
   PageLoader* Pages = nullptr;
-  /// With Pages: a refinement not read yet is read now (the first view), not asked for.
+  /// With Pages: every refinement is made and read in the frame (the first view), none asked
+  /// for.
   bool WaitForPages = false;
 };
 
@@ -1041,7 +1042,8 @@ template <Policy P, bool WithPriority>
 /**
  * JudgeCell, with the pages a refinement reads (Frame::Pages): a refinement whose pages were
  * not read yet is asked of the loader and the cell is drawn as it is (AwaitingPages), so that
- * the frame never waits on the disk; for the first view (Frame::WaitForPages) it is read now.
+ * the frame never waits on the disk; for the first view (Frame::WaitForPages) it is made, read
+ * in the frame (Selector::PreloadRefinements then marks it read).
  * Every walk judges through here, so a cell is never gone below before its pages are read.
  */
 template <Policy P, bool WithPriority>
@@ -1052,10 +1054,7 @@ template <Policy P, bool WithPriority>
   if (d.What != Verdict::Refine || !f.Pages || f.Pages->IsReady(n))
     return d;
   if (f.WaitForPages)
-  {
-    f.Pages->LoadNow(n);
     return d;
-  }
   f.Pages->Request(n);
   return Draw(AwaitingPages);
 }
@@ -1365,6 +1364,19 @@ bool Selector::Refines(const SelectionInput& in, int64_t node) const
   });
 }
 
+void Selector::PreloadRefinements(const uint8_t* state)
+{
+  // the refined nodes: the opened leaves and every ancestor of a cut node, each marked once
+  for (const int32_t n : this->Previous)
+  {
+    if (state[n] == CutOpen)
+      this->Pages->Preload(n);
+    for (int64_t p = this->View.Parent[n]; p >= 0 && !this->Pages->IsReady(p);
+         p = this->View.Parent[p])
+      this->Pages->Preload(p);
+  }
+}
+
 void Selector::ClearPrevious(uint8_t* state, uint8_t* reason, uint8_t* cullMask)
 {
   for (int32_t n : this->Previous)
@@ -1424,7 +1436,11 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
   {
     this->SelectDepthFirst(in, state, reason, cullMask, stats);
   }
-  this->FirstViewRead = this->Pages != nullptr;
+  if (this->Pages && !this->FirstViewRead)
+  {
+    this->PreloadRefinements(state);
+    this->FirstViewRead = true;
+  }
   // internal invariants (debug builds): on a valid octree the walk writes a valid cut, and the
   // figures count it
   assert(stats.Drawn <= stats.InCut && stats.InCut == int64_t(this->Previous.size()));

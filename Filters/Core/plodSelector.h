@@ -516,8 +516,10 @@ public:
    * refinement the walks make is read when made. With a loader, a cell the tolerances refine
    * whose refinement was not read yet is drawn as it is, with reason AwaitingPages (the
    * coarser cell stands in for its children), and asked of the loader; a later frame refines it
-   * once read. The first selection after the loader is set reads what it refines at once (the
-   * first view is drawn whole). Each selection drops the requests the last one left waiting
+   * once read. The first selection after the loader is set makes every refinement and reads it
+   * in the frame (the first view is drawn whole); its refinements are then marked read and read
+   * again in the background (PageLoader::Preload: the frame skips what it culls, which a later
+   * view may show). Each selection drops the requests the last one left waiting
    * (PageLoader::ForgetRequests) and asks again for what it still needs. Under a triangle
    * budget, a cell waits for its pages even when the budget would not refine it, so the loader
    * reads one level beyond the budget's cut: what a zoom needs next.
@@ -635,6 +637,8 @@ private:
   /// SetPageLoader's loader, and whether a selection with it was made (the first view read)
   PageLoader* Pages = nullptr;
   bool FirstViewRead = false;
+  /// After the first view: its refinements (the cut in `state`) marked read, and preloaded.
+  void PreloadRefinements(const uint8_t* state);
   /// The parallel tolerance walk: the function, and each subtree's stack, cut list, figures and
   /// triangles (capacities kept between frames).
   ParallelFor For;

@@ -6,13 +6,17 @@ work and its waits on the disk).
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
         Testing/Benchmarks/plod_flight.py model.plod [--frames 300] [--budget 0] \\
-        [--cache-limit MiB] [--csv out.csv]
+        [--cache-limit MiB] [--background-loading] [--csv out.csv]
 
 Per frame: milliseconds (select + patches), the major page faults taken during it (a fault the
 page cache could not serve: the frame waited on the disk), the process's resident memory and
 how much of it is the mapped octree (counted page by page after the frame, outside its time;
 the reader's CacheLimit bounds it: --cache-limit, 0 for none, the reader's default if not
-given), and how many times the limit dropped the mapped pages. The
+given), and how many times the limit dropped the mapped pages. With --background-loading
+(the reader's BackgroundLoading), the pages of refinements are read by the octree's own thread:
+a frame's waits are then the process's major faults less that thread's, and the flight also
+prints the cells drawn coarser while their pages were read and the frames until the view was
+whole again after the last request. The
 file's pages are dropped from the page cache first (posix_fadvise DONTNEED, which needs no
 privilege), so the first frame reads from the disk; the octree file is mapped (version 1), so
 its pages come and go as the kernel decides. Prints the first frame, the medians and maxima of
@@ -55,6 +59,17 @@ def major_faults():
     return resource.getrusage(resource.RUSAGE_SELF).ru_majflt
 
 
+def awaiting(selector):
+    """Cells of the last cut drawn coarser while their pages are read (CutReason 9)."""
+    nodes = selector.GetOutput().GetNodeData()
+    state, reason = nodes.GetArray('CutState'), nodes.GetArray('CutReason')
+    if state is None or reason is None:
+        return 0
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    s, r = vtk_to_numpy(state), vtk_to_numpy(reason)
+    return int(((s != 0) & (r == 9)).sum())
+
+
 def drop_from_page_cache(path):
     """Asks the kernel to drop the file's clean pages from the page cache; False if it cannot."""
     try:
@@ -89,6 +104,8 @@ def main():
     ap.add_argument('--budget', type=int, default=0, help='triangle budget (0: none)')
     ap.add_argument('--cache-limit', type=int, default=None,
                     help="the reader's CacheLimit in MiB (0: none; default: the reader's)")
+    ap.add_argument('--background-loading', action='store_true',
+                    help="the reader's BackgroundLoading: pages read off the frame")
     ap.add_argument('--csv', help='per-frame figures')
     args = ap.parse_args()
 
@@ -99,6 +116,7 @@ def main():
     reader.SetFileName(args.octree)
     if args.cache_limit is not None:
         reader.SetCacheLimit(args.cache_limit)
+    reader.SetBackgroundLoading(args.background_loading)
     reader.Update()
     open_ms = (time.perf_counter() - t0) * 1e3
     bounds = [0.0] * 6
@@ -124,13 +142,16 @@ def main():
         focus = target if zoomed else centre
         eye = (focus[0] + d * math.sin(a), focus[1], focus[2] + d * math.cos(a))
         look(selector, eye, focus, d)
-        before = major_faults()
+        before = major_faults() - octree.GetNumberOfBackgroundMajorFaults()
         t = time.perf_counter()
         patches.Update()
         ms = (time.perf_counter() - t) * 1e3
+        frame_faults = major_faults() - octree.GetNumberOfBackgroundMajorFaults() - before
         rows.append(dict(frame=k, azimuth=azimuth, distance=distance, ms=ms,
                          triangles=patches.GetNumberOfTriangles(),
-                         major_faults=major_faults() - before, resident_mib=resident_mib(),
+                         major_faults=max(0, frame_faults), awaiting=awaiting(selector),
+                         waiting_loads=octree.GetNumberOfWaitingLoads(),
+                         resident_mib=resident_mib(),
                          mapped_mib=octree.GetMappedResidentBytes() / 2 ** 20,
                          releases=octree.GetNumberOfResidentReleases()))
 
@@ -164,6 +185,13 @@ def main():
           f' frames')
     print(f'resident at the last frame: {file_mib:.0f} MiB of files (the mapped octree, the '
           f'libraries), {anonymous_mib:.0f} MiB anonymous (the filters\' arrays, Python, VTK)')
+    if args.background_loading:
+        coarser = [r for r in rest if r['awaiting'] > 0]
+        print(f'background loading: {len(coarser)} frames drew cells awaiting their pages '
+              f'(median {statistics.median([r["awaiting"] for r in coarser]) if coarser else 0:.0f}'
+              f' cells, max {max([r["awaiting"] for r in coarser], default=0)}); '
+              f'{octree.GetNumberOfBackgroundLoads()} refinements read by the thread, '
+              f'{octree.GetNumberOfBackgroundMajorFaults()} major faults there')
 
 
 if __name__ == '__main__':

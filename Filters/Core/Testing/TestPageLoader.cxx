@@ -203,6 +203,9 @@ TEST(PageLoader, SelectionDrawsAncestorsUntilTheReadsArrive)
     EXPECT_EQ(loader.GetWaiting(), 0u);
     EXPECT_EQ(loader.GetLoaded(), 0u);
     ExpectRefinementsRead(v, cut, loader);
+    loader.WaitUntilIdle(); // its refinements read again in the background (Preload)
+    EXPECT_GT(loader.GetPagesTouched(), 0u);
+    EXPECT_EQ(loader.GetLoaded(), 0u);
     // 2. closer, the reads held: what is not read waits, drawn at an ancestor
     loader.SetPaused(true);
     cut.Select(gated, close);
