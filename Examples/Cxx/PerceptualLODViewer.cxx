@@ -3,11 +3,13 @@
 //
 //   PerceptualLODViewer [model.ply|.stl|.obj|.vtp|.plod] [--offscreen] [--frames N] [--out DIR]
 //                       [--size W H] [--level L] [--mode srcc|tmm|scvc|psec|distance|ipv|dpv|fovea]
-//                       [--cache-limit MiB]
+//                       [--cache-limit MiB] [--background-loading]
 //
 // Without a file it uses a generated detailed model (a displaced sphere, about 250k triangles).
 // An octree file is mapped; --cache-limit bounds how much of it the viewer keeps resident
-// between frames (vtkMultiscaleOctreeReader::SetCacheLimit; 0: no limit; default 2048).
+// between frames (vtkMultiscaleOctreeReader::SetCacheLimit; 0: no limit; default 2048), and
+// --background-loading reads its pages off the frame (SetBackgroundLoading): what is not read
+// yet is drawn coarser, and the viewer renders again as the pages arrive.
 // Interactive keys:
 //   1 SRCC   2 SRCC+TMM   3 SCVC   4 PSEC   5 Distance   6 IPV   7 DPV   8 foveated
 //   0 full resolution    + / - tolerances x1.5 / /1.5    h help
@@ -80,6 +82,7 @@ struct Viewer
   int Mode = 1;
   double Scale = 1.0; // tolerance scale
   double RenderStart = 0, RenderTime = 0;
+  vtkIdType LoadsRendered = 0; // background loads as of the last render asked for them
 
   void SetMode(int mode)
   {
@@ -288,6 +291,7 @@ int main(int argc, char* argv[])
   std::string file, out = "perceptual_lod_output", modeName = "srcc";
   bool offscreen = false;
   int frames = 90, width = 960, height = 720, level = -1, cacheLimit = -1;
+  bool background = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -303,6 +307,8 @@ int main(int argc, char* argv[])
       modeName = argv[++i];
     else if (a == "--cache-limit" && i + 1 < argc)
       cacheLimit = std::max(0, std::atoi(argv[++i]));
+    else if (a == "--background-loading")
+      background = true;
     else if (a == "--size" && i + 2 < argc)
     {
       width = std::atoi(argv[++i]);
@@ -312,7 +318,7 @@ int main(int argc, char* argv[])
     {
       std::printf("usage: %s [model] [--offscreen] [--frames N] [--out DIR] [--size W H] "
                   "[--level L] [--mode srcc|tmm|scvc|psec|distance|ipv|dpv|fovea] "
-                  "[--cache-limit MiB]\n",
+                  "[--cache-limit MiB] [--background-loading]\n",
         argv[0]);
       return 0;
     }
@@ -331,6 +337,7 @@ int main(int argc, char* argv[])
     {
       reader->SetCacheLimit(cacheLimit);
     }
+    reader->SetBackgroundLoading(background);
     reader->Update();
     if (reader->GetOutput()->GetNumberOfNodes() == 0)
     {
@@ -444,7 +451,26 @@ int main(int argc, char* argv[])
       viewer->Text->SetInput(viewer->Status().c_str());
     });
     v.Window->AddObserver(vtkCommand::EndEvent, status);
+    // background loading: render again while pages are read, so the view refines
+    vtkNew<vtkCallbackCommand> refresh;
+    refresh->SetClientData(&v);
+    refresh->SetCallback([](vtkObject*, unsigned long, void* c, void*) {
+      auto* viewer = static_cast<Viewer*>(c);
+      auto* octree = vtkMultiscaleOctree::SafeDownCast(viewer->Selector->GetInputDataObject(0, 0));
+      if (octree && octree->GetBackgroundLoading() &&
+        (octree->GetNumberOfWaitingLoads() > 0 ||
+          octree->GetNumberOfBackgroundLoads() != viewer->LoadsRendered))
+      {
+        viewer->LoadsRendered = octree->GetNumberOfBackgroundLoads();
+        viewer->Window->Render();
+      }
+    });
+    interactor->AddObserver(vtkCommand::TimerEvent, refresh);
     interactor->Initialize();
+    if (background)
+    {
+      interactor->CreateRepeatingTimer(50);
+    }
     v.Window->Render();
     interactor->Start();
     return 0;
@@ -549,6 +575,12 @@ int main(int argc, char* argv[])
                 "times\n",
       reader->GetCacheLimit(), double(octree->GetMappedResidentBytes()) / 1048576.0,
       static_cast<long long>(octree->GetNumberOfResidentReleases()));
+    if (octree->GetBackgroundLoading())
+    {
+      std::printf("background loading: %lld refinements read by the thread, %lld waiting\n",
+        static_cast<long long>(octree->GetNumberOfBackgroundLoads()),
+        static_cast<long long>(octree->GetNumberOfWaitingLoads()));
+    }
   }
   std::printf("wrote %s/frames.csv and PNG frames\n", out.c_str());
   return 0;

@@ -1,11 +1,14 @@
 """The perceptual LOD as one actor: the whole pipeline is vtkPerceptualLODActor.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Examples/Python/lod_actor.py \
-        [model.ply | octree.plod] [--offscreen] [--cache-limit MiB]
+        [model.ply | octree.plod] [--offscreen] [--cache-limit MiB] [--background-loading]
 
 Interactive: rotate with the mouse; the actor selects its cut again for every view. With
 --offscreen (run it under `xvfb-run -a`), it orbits for 30 frames and prints the triangles drawn.
-An octree file is mapped: --cache-limit bounds how much of it stays resident between frames.
+An octree file is mapped: --cache-limit bounds how much of it stays resident between frames,
+and with --background-loading its pages are read by a thread of their own, off the frame: a part
+of the model whose pages are not read yet is drawn coarser for a few frames (the actor asks the
+interactor for the renders that refine it).
 """
 import sys
 
@@ -25,12 +28,14 @@ if '--cache-limit' in options:
     at = options.index('--cache-limit')
     cache_limit = int(options[at + 1])
     del options[at:at + 2]
+background = '--background-loading' in options
 args = [checked(a) for a in options if not a.startswith('--')]
 if args and vtkMultiscaleOctreeReader.CanReadFile(args[0]):
     source = vtkMultiscaleOctreeReader()  # a saved octree: nothing to build
     source.SetFileName(args[0])
     if cache_limit is not None:
         source.SetCacheLimit(cache_limit)  # MiB of the mapped file kept between frames
+    source.SetBackgroundLoading(background)  # pages read off the frame
 elif args:
     source = vtkPLYReader()
     source.SetFileName(args[0])
@@ -65,6 +70,9 @@ if '--offscreen' in sys.argv:
         print(f'mapped octree: cache limit {source.GetCacheLimit()} MiB, '
               f'{octree.GetMappedResidentBytes() / 2 ** 20:.1f} MiB resident, '
               f'dropped {octree.GetNumberOfResidentReleases()} times')
+        if source.GetBackgroundLoading():
+            print(f'background loading: {octree.GetNumberOfBackgroundLoads()} refinements read '
+                  f'by the thread, {octree.GetNumberOfWaitingLoads()} waiting')
 else:
     interactor = vtkRenderWindowInteractor()
     interactor.SetRenderWindow(window)

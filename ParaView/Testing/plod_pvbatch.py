@@ -352,6 +352,13 @@ def octree_filters(out):
     count = LOD(from_file).GetNumberOfTriangles()
     check(count == direct, "a CacheLimit of 1 MiB draws the same triangles (%d, %d)"
           % (count, direct))
+    # background loading: off by default; the first view is read whole, so the same triangles
+    check(read.BackgroundLoading == 0, "the Reader's BackgroundLoading is off by default")
+    read.BackgroundLoading = 1
+    Render(view)
+    count = LOD(from_file).GetNumberOfTriangles()
+    check(count == direct, "with BackgroundLoading the first view draws the same triangles "
+          "(%d, %d)" % (count, direct))
 
     # a PLY file built without loading it: the same surface triangles as the mesh
     from paraview.simple import MultiscaleOctreeFromPLYFile

@@ -48,6 +48,13 @@ class BenchmarkScriptsTest(unittest.TestCase):
         self.assertIn('resident MiB over the flight', out)
         self.assertIn('resident at the last frame', out)
 
+    def test_flight_with_background_loading(self):
+        out = self.run_script('plod_flight.py', self.octree, '--frames', '6',
+                              '--background-loading')
+        self.assertIn('first frame', out)
+        self.assertIn('background loading:', out)
+        self.assertIn('refinements read by the thread', out)
+
     def test_orbit(self):
         out = self.run_script('patches_orbit.py', self.octree, '--frames', '4', '--budget',
                               '500', '--exact')
