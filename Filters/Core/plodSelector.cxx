@@ -1051,9 +1051,7 @@ template <Policy P, bool WithPriority>
   const Frame& f, int32_t n, const uint32_t C[3], bool brightnessOnly, uint8_t& inside)
 {
   const Decision d = JudgeCell<P, WithPriority>(f, n, C, brightnessOnly, inside);
-  if (d.What != Verdict::Refine || !f.Pages || f.Pages->IsReady(n))
-    return d;
-  if (f.WaitForPages)
+  if (d.What != Verdict::Refine || !f.Pages || f.WaitForPages || f.Pages->IsReady(n))
     return d;
   f.Pages->Request(n);
   return Draw(AwaitingPages);

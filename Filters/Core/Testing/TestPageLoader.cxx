@@ -224,6 +224,12 @@ TEST(PageLoader, SelectionDrawsAncestorsUntilTheReadsArrive)
         EXPECT_TRUE(AncestorInCut(v, cut, n)) << "node " << n << " has no ancestor drawn";
       }
     }
+    // a view left behind is not loaded: back to the far view, its requests are dropped
+    cut.Select(gated, far);
+    EXPECT_EQ(loader.GetWaiting(), 0u);
+    EXPECT_EQ(cut.State, farCut.State);
+    cut.Select(gated, close);
+    EXPECT_EQ(loader.GetWaiting(), uint64_t(awaiting));
     // 3. reads let go: each frame refines further, until the plain cut
     loader.SetPaused(false);
     int frames = 0;
