@@ -178,10 +178,14 @@ bool ResidentLimit::Enforce(std::string* why)
     return true;
   if (!this->Count(false, why))
     return false;
-  if (this->LastCounted > this->Limit && !this->Count(true, why))
+  const uint64_t counted = this->LastCounted;
+  if (counted > this->Limit && !this->Count(true, why))
     return false;
-  const int64_t after = ProcessFileResidentBytes();
-  this->Others = std::max<int64_t>(0, (after < 0 ? before : after) - int64_t(this->LastCounted));
+  // the other pages as of `before`: the mapping, counted after it, can only have grown
+  // meanwhile (a page loader reads beside the frame), so this errs low and the next exact count
+  // comes sooner, never later (read after the drop, the loader's new pages would count as
+  // others, and the mapping could then grow past the limit unseen)
+  this->Others = std::max<int64_t>(0, before - int64_t(counted));
   return true;
 }
 

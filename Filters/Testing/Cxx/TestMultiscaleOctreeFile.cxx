@@ -12,6 +12,7 @@
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkMath.h"
 #include "vtkMultiscaleOctree.h"
 #include "vtkMultiscaleOctreeBuilder.h"
 #include "vtkMultiscaleOctreeReader.h"
@@ -863,6 +864,17 @@ TEST(MultiscaleOctreeFile, CompactFileOfAScanIsLosslessAndSmall)
   }
 }
 
+/// The cells of `selector`'s last cut drawn coarser while their pages are read.
+vtkIdType AwaitingCells(vtkPerceptualLODSelector* selector)
+{
+  auto* state = selector->GetOutput()->GetNodeData()->GetArray("CutState");
+  auto* reason = selector->GetOutput()->GetNodeData()->GetArray("CutReason");
+  vtkIdType k = 0;
+  for (vtkIdType n = 0; state && reason && n < state->GetNumberOfTuples(); ++n)
+    k += state->GetTuple1(n) != plod::NotInCut && reason->GetTuple1(n) == plod::AwaitingPages;
+  return k;
+}
+
 TEST(MultiscaleOctreeFile, BackgroundLoadingReadsOffTheFrame)
 {
   // A mapped file read with BackgroundLoading: the first view is the plain pipeline's; a move
@@ -901,15 +913,7 @@ TEST(MultiscaleOctreeFile, BackgroundLoadingReadsOffTheFrame)
       frame->DeepCopy(this->Patches->GetOutput());
       return frame;
     }
-    vtkIdType Awaiting()
-    {
-      auto* state = this->Selector->GetOutput()->GetNodeData()->GetArray("CutState");
-      auto* reason = this->Selector->GetOutput()->GetNodeData()->GetArray("CutReason");
-      vtkIdType k = 0;
-      for (vtkIdType n = 0; state && reason && n < state->GetNumberOfTuples(); ++n)
-        k += state->GetTuple1(n) != plod::NotInCut && reason->GetTuple1(n) == plod::AwaitingPages;
-      return k;
-    }
+    vtkIdType Awaiting() { return AwaitingCells(this->Selector); }
   };
   const double far = 3.0, close = 1.2;
   Pipeline plain(path, false);
@@ -967,6 +971,89 @@ TEST(MultiscaleOctreeFile, BackgroundLoadingReadsOffTheFrame)
   std::cout << awaiting << " cells awaited their pages; " << frames << " frames to the full cut; "
             << read << " refinements read; a frame alone maps " << (frameAlone >> 10)
             << " KiB, the loader " << (byLoader >> 10) << " KiB\n";
+  std::remove(path.c_str());
+}
+
+TEST(MultiscaleOctreeFile, StanfordBunnyFileViewedWithinACacheLimitAndOffTheFrame)
+{
+  // A real scan saved as a mapped file and flown as a viewer flies it: the camera at the
+  // distance vtkRenderer::ResetCamera gives for the model's bounds (30 degree view angle),
+  // then an orbit closing to a tenth of it. Read with a cache limit below the file and its
+  // pages read in the background, every frame (once the reads it asked for have arrived) draws
+  // what the plain reader draws, point for point, and the mapped pages are within the limit.
+  const std::string dir = plodtest::DataDir();
+  if (dir.empty())
+    GTEST_SKIP() << "../shared/data (Stanford scans) not found: set PLOD_DATA_DIR";
+  std::FILE* pagemap = std::fopen("/proc/self/pagemap", "rb");
+  if (!pagemap)
+    GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
+  std::fclose(pagemap);
+  auto bunny = plodtest::ReadPLY(dir + "/bun_zipper.ply");
+  ASSERT_TRUE(bunny);
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(bunny);
+  builder->Update();
+  const std::string path = TempPath("bunny.plod");
+  ASSERT_TRUE(Write(builder->GetOutput(), path));
+  const vtkIdType fileBytes = static_cast<vtkIdType>(ReadBytes(path).size());
+  ASSERT_GT(fileBytes, 2 << 20);
+  double b[6];
+  bunny->GetBounds(b);
+  const double centre[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+  const double radius = 0.5 *
+    std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+      (b[5] - b[4]) * (b[5] - b[4]));
+  const double reset = radius / std::sin(vtkMath::RadiansFromDegrees(15.0));
+  struct Flight
+  {
+    vtkNew<vtkMultiscaleOctreeReader> Reader;
+    vtkNew<vtkPerceptualLODSelector> Selector;
+    vtkNew<vtkMultiscalePatchGenerator> Patches;
+  };
+  const auto setUp = [&](Flight& f, int limitMiB, bool background) {
+    f.Reader->SetFileName(path.c_str());
+    f.Reader->SetCacheLimit(limitMiB);
+    f.Reader->SetBackgroundLoading(background);
+    f.Selector->SetInputConnection(f.Reader->GetOutputPort());
+    f.Patches->SetInputConnection(f.Selector->GetOutputPort());
+    f.Selector->SetViewportSize(1280, 1024);
+  };
+  Flight plain, streamed;
+  setUp(plain, 0, false);
+  setUp(streamed, 1, true);
+  vtkIdType reads = 0, waited = 0;
+  for (int k = 0; k < 10; ++k)
+  {
+    const double a = 0.5 * k, d = reset * (1.0 - 0.9 * k / 9.0);
+    const double eye[3] = { centre[0] + d * std::sin(a), centre[1] + 0.2 * d,
+      centre[2] + d * std::cos(a) };
+    for (Flight* f : { &plain, &streamed })
+    {
+      f->Selector->SetEyePosition(eye[0], eye[1], eye[2]);
+      f->Patches->Update();
+    }
+    vtkMultiscaleOctree* mapped = streamed.Reader->GetOutput();
+    waited += AwaitingCells(streamed.Selector) > 0 ? 1 : 0;
+    for (int again = 0; again < 40 && AwaitingCells(streamed.Selector) > 0; ++again)
+    {
+      mapped->WaitForLoads();
+      streamed.Patches->Update(); // runs again by itself: the loads arrived
+    }
+    EXPECT_EQ(AwaitingCells(streamed.Selector), 0) << "frame " << k;
+    // the limit holds after a frame (the thread's reads since the last one count against it)
+    mapped->WaitForLoads();
+    streamed.Selector->Modified();
+    streamed.Patches->Update();
+    ASSERT_GT(plain.Patches->GetOutput()->GetNumberOfPolys(), 0);
+    EXPECT_TRUE(plodtest::SameDrawing(plain.Patches->GetOutput(), streamed.Patches->GetOutput()))
+      << "frame " << k;
+    EXPECT_LE(mapped->GetMappedResidentBytes(), vtkIdType(1) << 20) << "frame " << k;
+    reads = mapped->GetNumberOfBackgroundLoads();
+  }
+  EXPECT_GT(waited, 0) << "the closing orbit should need pages the first view did not read";
+  EXPECT_GT(streamed.Reader->GetOutput()->GetNumberOfResidentReleases(), 0);
+  std::cout << "bunny file " << (fileBytes >> 10) << " KiB; " << waited
+            << " of 10 frames waited for pages, " << reads << " refinements read\n";
   std::remove(path.c_str());
 }
 
