@@ -162,6 +162,8 @@ void PageLoader::TouchTuples(ArrayGroup group, int64_t first, int64_t end)
   end = std::min(end, this->View.TupleCount(group));
   if (end <= first)
     return;
+  if (this->TouchObserver)
+    this->TouchObserver(group, first, end);
   const size_t page = PageBytes();
   uint64_t touched = 0;
   for (const Array& a : this->Arrays)

@@ -46,6 +46,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -94,6 +95,14 @@ public:
   /// running).
   void WaitUntilIdle();
 
+  /**
+   * For tests and diagnostics: called with each range of tuples a read covers, [first, end)
+   * of `group` (every array of the group, one byte per page). Set before any read starts.
+   */
+  void SetTouchObserver(std::function<void(ArrayGroup group, int64_t first, int64_t end)> f)
+  {
+    this->TouchObserver = std::move(f);
+  }
   /// The node the background thread read last (-1 before any): which request went first.
   int64_t GetLastLoaded() const { return this->LastLoaded.load(); }
   /// Nodes made ready by the background thread so far.
@@ -129,6 +138,7 @@ private:
   };
   std::vector<Array> Arrays;
   ZeroPages<uint8_t> Flags;
+  std::function<void(ArrayGroup, int64_t, int64_t)> TouchObserver;
 
   mutable std::mutex Mutex;
   std::condition_variable Wake, Idle;

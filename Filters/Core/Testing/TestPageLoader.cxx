@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -137,6 +138,67 @@ TEST(PageLoader, RequestsAreReadOnceCoarsestFirst)
   EXPECT_FALSE(loader.IsReady(-1));
   EXPECT_FALSE(loader.IsReady(v.NumberOfNodes));
   EXPECT_EQ(loader.GetWaiting(), 0u);
+}
+
+TEST(PageLoader, ARefinementReadsWhatTheFrameReadsToGoBelowIt)
+{
+  // What Load() reads for node n, tuple by tuple (the observer sees every range): n's children's
+  // node records, their clusters, the triangles n owns, each of their corners' points and the
+  // corner's walk from its leaf cluster up to a cluster of the children's level (a leaf: its
+  // own level).
+  plod::OctreeStorage storage;
+  const plod::OctreeView v = BuildSphere(storage, 40);
+  plod::PageLoader loader;
+  loader.SetOctree(v, nullptr);
+  std::vector<std::vector<bool>> seen(4);
+  for (int g = 0; g < 4; ++g)
+    seen[g].assign(size_t(v.TupleCount(plod::ArrayGroup(g))), false);
+  loader.SetTouchObserver([&](plod::ArrayGroup group, int64_t first, int64_t end) {
+    for (int64_t i = first; i < end; ++i)
+      seen[int(group)][size_t(i)] = true;
+  });
+  const auto read = [&](plod::ArrayGroup g, int64_t i) { return bool(seen[int(g)][size_t(i)]); };
+  int inner = 0, leaves = 0, corners = 0;
+  for (int64_t n = 0; n < v.NumberOfNodes && (inner < 20 || leaves < 20); ++n)
+  {
+    const int64_t owned = v.TriangleEnd(n) - v.FirstTriangle[n];
+    if (owned == 0 || (v.ChildMask[n] ? inner >= 20 : leaves >= 20))
+      continue;
+    ++(v.ChildMask[n] ? inner : leaves);
+    for (auto& group : seen)
+      std::fill(group.begin(), group.end(), false);
+    loader.LoadNow(n);
+    const int level = v.Level[n] + (v.ChildMask[n] ? 1 : 0); // where the corners' walks end
+    if (v.ChildMask[n])
+    {
+      const int64_t first = v.FirstChild[n], last = first + __builtin_popcount(v.ChildMask[n]) - 1;
+      for (int64_t c = first; c <= last; ++c)
+        EXPECT_TRUE(read(plod::ArrayGroup::Node, c)) << "child " << c << " of " << n;
+      for (int64_t k = v.FirstCluster[first]; k < v.ClusterEnd(last); ++k)
+        EXPECT_TRUE(read(plod::ArrayGroup::Cluster, k)) << "cluster " << k << " of " << n;
+    }
+    for (int64_t t = v.FirstTriangle[n]; t < v.TriangleEnd(n); ++t)
+    {
+      EXPECT_TRUE(read(plod::ArrayGroup::Triangle, t)) << "triangle " << t << " of " << n;
+      for (int k = 0; k < 3; ++k, ++corners)
+      {
+        const int32_t p = v.Triangles[3 * t + k];
+        EXPECT_TRUE(read(plod::ArrayGroup::Point, p)) << "corner " << p << " of " << n;
+        int32_t c = v.PointCluster[p];
+        for (; c >= 0; c = v.ClusterParent[c])
+        {
+          EXPECT_TRUE(read(plod::ArrayGroup::Cluster, c)) << "walk of " << p << " at " << c;
+          if (v.Level[v.ClusterNode[c]] <= level)
+            break;
+        }
+        EXPECT_GE(c, 0);
+        EXPECT_EQ(v.Level[v.ClusterNode[c]], level) << "the walk ends at the cut's level";
+      }
+    }
+  }
+  EXPECT_EQ(inner, 20);
+  EXPECT_EQ(leaves, 20);
+  EXPECT_GT(corners, 0);
 }
 
 TEST(PageLoader, ForgottenRequestsAreNotRead)
