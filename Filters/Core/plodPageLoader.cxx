@@ -82,8 +82,7 @@ void PageLoader::Request(int64_t n)
     const int level = std::min<int>(this->View.Level[n], MaxFinestLevel);
     this->Queue[level].push_back(n);
     ++this->Waiting;
-    if (!this->Thread.joinable())
-      this->Thread = std::thread([this] { this->Run(); });
+    this->StartThread();
   }
   this->Wake.notify_one();
 }
@@ -96,10 +95,15 @@ void PageLoader::Preload(int64_t n)
   {
     std::lock_guard<std::mutex> lock(this->Mutex);
     this->Preloads.push_back(n);
-    if (!this->Thread.joinable())
-      this->Thread = std::thread([this] { this->Run(); });
+    this->StartThread();
   }
   this->Wake.notify_one();
+}
+
+void PageLoader::StartThread()
+{
+  if (!this->Thread.joinable())
+    this->Thread = std::thread([this] { this->Run(); });
 }
 
 void PageLoader::LoadNow(int64_t n)

@@ -126,6 +126,8 @@ private:
   void TouchCornerWalk(int64_t point, int level);
   void MarkReady(int64_t n);
   void Run();
+  /// Starts the thread at the first request (called under the lock).
+  void StartThread();
 
   OctreeView View;
   std::shared_ptr<const void> KeepAlive;

@@ -864,6 +864,15 @@ TEST(MultiscaleOctreeFile, CompactFileOfAScanIsLosslessAndSmall)
   }
 }
 
+/// Whether this process can count its mapped pages (the cache limit's tests need it).
+bool PageMapReadable()
+{
+  std::FILE* pagemap = std::fopen("/proc/self/pagemap", "rb");
+  if (pagemap)
+    std::fclose(pagemap);
+  return pagemap != nullptr;
+}
+
 /// The cells of `selector`'s last cut drawn coarser while their pages are read.
 vtkIdType AwaitingCells(vtkPerceptualLODSelector* selector)
 {
@@ -883,10 +892,8 @@ TEST(MultiscaleOctreeFile, BackgroundLoadingReadsOffTheFrame)
   // modification time follows the loads) and reaches the plain drawing. Then what the frame
   // reads of the file: with the pages dropped and every read refinement read again by the
   // loader, a frame maps no page more.
-  std::FILE* pagemap = std::fopen("/proc/self/pagemap", "rb");
-  if (!pagemap)
+  if (!PageMapReadable())
     GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
-  std::fclose(pagemap);
   auto octree = BuildOctree(160);
   const std::string path = TempPath("background.plod");
   ASSERT_TRUE(Write(octree, path));
@@ -984,10 +991,8 @@ TEST(MultiscaleOctreeFile, StanfordBunnyFileViewedWithinACacheLimitAndOffTheFram
   const std::string dir = plodtest::DataDir();
   if (dir.empty())
     GTEST_SKIP() << "../shared/data (Stanford scans) not found: set PLOD_DATA_DIR";
-  std::FILE* pagemap = std::fopen("/proc/self/pagemap", "rb");
-  if (!pagemap)
+  if (!PageMapReadable())
     GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
-  std::fclose(pagemap);
   auto bunny = plodtest::ReadPLY(dir + "/bun_zipper.ply");
   ASSERT_TRUE(bunny);
   vtkNew<vtkMultiscaleOctreeBuilder> builder;
@@ -1063,10 +1068,8 @@ TEST(MultiscaleOctreeFile, CacheLimitKeepsTheMappedPagesWithinIt)
   // selector and the patch generator), the pages of the file the process holds are within the
   // limit, and every frame draws what it draws without a limit, point for point. Without a
   // limit, the same flight holds more than it; with one above the file, nothing is dropped.
-  std::FILE* pagemap = std::fopen("/proc/self/pagemap", "rb");
-  if (!pagemap)
+  if (!PageMapReadable())
     GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
-  std::fclose(pagemap);
   auto octree = BuildOctree(160);
   const std::string path = TempPath("cachelimit.plod");
   ASSERT_TRUE(Write(octree, path));

@@ -107,6 +107,17 @@ protected:
 };
 vtkStandardNewMacro(RecordingInteractor);
 
+/// Builds the octree of `mesh` and saves it as `path`.
+bool SaveOctree(vtkPolyData* mesh, const std::string& path)
+{
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  builder->SetInputData(mesh);
+  vtkNew<vtkMultiscaleOctreeWriter> writer;
+  writer->SetInputConnection(builder->GetOutputPort());
+  writer->SetFileName(path.c_str());
+  return writer->Write() == 1;
+}
+
 int Lit(const std::vector<unsigned char>& image)
 {
   int n = 0;
@@ -204,13 +215,8 @@ TEST(PerceptualLODActor, ImageIsTheThreeFilterPipelines)
 TEST(PerceptualLODActor, OctreeInputSkipsTheBuildAndDrawsTheSame)
 {
   auto blob = plodtest::MakeBlob(5, 50, 0.3);
-  vtkNew<vtkMultiscaleOctreeBuilder> builder;
-  builder->SetInputData(blob);
   const std::string path = "/tmp/plod_actor_" + std::to_string(::getpid()) + ".plod";
-  vtkNew<vtkMultiscaleOctreeWriter> writer;
-  writer->SetInputConnection(builder->GetOutputPort());
-  writer->SetFileName(path.c_str());
-  ASSERT_EQ(writer->Write(), 1);
+  ASSERT_TRUE(SaveOctree(blob, path));
   vtkNew<vtkMultiscaleOctreeReader> reader;
   reader->SetFileName(path.c_str());
 
@@ -238,14 +244,8 @@ TEST(PerceptualLODActor, RendersAgainWhilePagesAreRead)
   // A mapped octree read in the background: after a render that leaves cells awaiting their
   // pages, the actor asks the window's interactor for one more render (one timer at a time);
   // each such render refines further, until the actor's cut is a plain reader's.
-  auto blob = plodtest::MakeBlob(5, 80, 0.3);
-  vtkNew<vtkMultiscaleOctreeBuilder> builder;
-  builder->SetInputData(blob);
   const std::string path = "/tmp/plod_actor_bg_" + std::to_string(::getpid()) + ".plod";
-  vtkNew<vtkMultiscaleOctreeWriter> writer;
-  writer->SetInputConnection(builder->GetOutputPort());
-  writer->SetFileName(path.c_str());
-  ASSERT_EQ(writer->Write(), 1);
+  ASSERT_TRUE(SaveOctree(plodtest::MakeBlob(5, 80, 0.3), path));
   vtkNew<vtkMultiscaleOctreeReader> plainReader, reader;
   plainReader->SetFileName(path.c_str());
   reader->SetFileName(path.c_str());
