@@ -555,6 +555,7 @@ void vtkPerceptualLODSelector::RecordFigures(const plod::SelectionStats& stats)
   this->NumberOfOpenedLeaves = stats.Opened;
   this->NumberOfFoveationFactors = stats.FoveationFactors;
   this->NumberOfTopologyRefinedNodes = stats.TopologyRefined;
+  this->NumberOfAwaitingCells = stats.AwaitingPages;
   this->BudgetWasBinding = stats.BudgetBinding;
   this->NumberOfBudgetTriangles = stats.BudgetTriangles;
   this->NumberOfCutTriangles = stats.CutTriangles;

@@ -544,6 +544,9 @@ public:
   /// Leaves drawn at full resolution, and cells refined only for their topology.
   vtkGetMacro(NumberOfOpenedLeaves, vtkIdType);
   vtkGetMacro(NumberOfTopologyRefinedNodes, vtkIdType);
+  /// Cells drawn coarser while their pages are read (CutReason 9; background loading, see
+  /// vtkMultiscaleOctree::SetBackgroundLoading): the view is still refining.
+  vtkGetMacro(NumberOfAwaitingCells, vtkIdType);
   /// Cells whose foveation factor exp(FoveationRate D) was computed. With screen foveation the
   /// walk first bounds it from a table and computes it only where a test falls within the
   /// bounds (a fraction of a percent of the cells; the cut is the same to the bit).
@@ -645,6 +648,7 @@ protected:
   vtkIdType NumberOfDrawnNodes;
   vtkIdType NumberOfOpenedLeaves;
   vtkIdType NumberOfTopologyRefinedNodes;
+  vtkIdType NumberOfAwaitingCells = 0;
   vtkIdType NumberOfFoveationFactors = 0;
   bool BudgetWasBinding;
   vtkIdType NumberOfBudgetTriangles;

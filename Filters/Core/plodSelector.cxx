@@ -1081,6 +1081,7 @@ struct CutWriter
     this->Previous.push_back(static_cast<int32_t>(n));
     ++this->Stats.InCut;
     this->Stats.Drawn += IsDrawnState(state) ? 1 : 0;
+    this->Stats.AwaitingPages += reason == AwaitingPages ? 1 : 0;
   }
   /// A decision that puts the cell in the cut (Hide or Draw).
   void Keep(int64_t n, const Decision& d)
@@ -1636,6 +1637,7 @@ void AddFigures(SelectionStats& a, const SelectionStats& b)
   a.Drawn += b.Drawn;
   a.Opened += b.Opened;
   a.TopologyRefined += b.TopologyRefined;
+  a.AwaitingPages += b.AwaitingPages;
   a.FoveationFactors += b.FoveationFactors;
 }
 }
@@ -1839,6 +1841,7 @@ int64_t CoarsenFront(const Frame& frame, std::vector<EntryType>& next, std::vect
       {
         --cut.Stats.InCut;
         cut.Stats.Drawn -= IsDrawnState(state[r.First + k]) ? 1 : 0;
+        cut.Stats.AwaitingPages -= cut.Reason[r.First + k] == AwaitingPages ? 1 : 0;
         LeaveCut(cut, r.First + k);
       }
       triangles -= r.Owned;

@@ -379,6 +379,7 @@ struct SelectionStats
   int64_t Drawn = 0;
   int64_t Opened = 0;          // leaves drawn at full resolution
   int64_t TopologyRefined = 0; // cells refined only because they are not topologically safe
+  int64_t AwaitingPages = 0;   // cells drawn coarser while their pages are read (PageLoader)
   /// Cells whose foveation factor exp(K D) was computed (angle and exponential). Screen
   /// foveation's table bounds it first in the tolerance and incremental walks, and only cells
   /// whose tests fall within the bounds compute it (plodSelector.cxx, FoveaTable).

@@ -59,17 +59,6 @@ def major_faults():
     return resource.getrusage(resource.RUSAGE_SELF).ru_majflt
 
 
-def awaiting(selector):
-    """Cells of the last cut drawn coarser while their pages are read (CutReason 9)."""
-    nodes = selector.GetOutput().GetNodeData()
-    state, reason = nodes.GetArray('CutState'), nodes.GetArray('CutReason')
-    if state is None or reason is None:
-        return 0
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    s, r = vtk_to_numpy(state), vtk_to_numpy(reason)
-    return int(((s != 0) & (r == 9)).sum())
-
-
 def drop_from_page_cache(path):
     """Asks the kernel to drop the file's clean pages from the page cache; False if it cannot."""
     try:
@@ -149,7 +138,7 @@ def main():
         frame_faults = major_faults() - octree.GetNumberOfBackgroundMajorFaults() - before
         rows.append(dict(frame=k, azimuth=azimuth, distance=distance, ms=ms,
                          triangles=patches.GetNumberOfTriangles(),
-                         major_faults=max(0, frame_faults), awaiting=awaiting(selector),
+                         major_faults=max(0, frame_faults), awaiting=selector.GetNumberOfAwaitingCells(),
                          waiting_loads=octree.GetNumberOfWaitingLoads(),
                          resident_mib=resident_mib(),
                          mapped_mib=octree.GetMappedResidentBytes() / 2 ** 20,

@@ -938,6 +938,7 @@ TEST(MultiscaleOctreeFile, BackgroundLoadingReadsOffTheFrame)
   const auto held = gated.Draw(close);
   const vtkIdType awaiting = gated.Awaiting();
   EXPECT_GT(awaiting, 0);
+  EXPECT_EQ(gated.Selector->GetNumberOfAwaitingCells(), awaiting);
   EXPECT_EQ(mapped->GetNumberOfWaitingLoads(), awaiting);
   EXPECT_FALSE(plodtest::SameDrawing(held, plainClose)) << "cells wait, drawn coarser";
   loader->SetPaused(false);
