@@ -32,8 +32,9 @@
  *   the next selection can refine further (vtkPerceptualLODSelector re-executes then, and the
  *   actor renders again while loads are pending).
  *
- * Thread safety: Request(), IsReady(), LoadNow(), ForgetRequests() and the figures may be called
- * from any thread, at once; SetOctree() only while no other call runs. The view's arrays must
+ * Thread safety: Request(), Preload(), IsReady(), LoadNow(), ForgetRequests() and the figures
+ * may be called from any thread, at once; SetOctree() and SetTouchObserver() only while no
+ * other call runs. The view's arrays must
  * stay valid while the loader exists (SetOctree keeps `keepAlive`, the map's owner).
  */
 #ifndef plodPageLoader_h
