@@ -558,30 +558,36 @@ plod::PageLoader* vtkMultiscaleOctree::GetPageLoader()
 }
 
 //------------------------------------------------------------------------------
+plod::PageLoader* vtkMultiscaleOctree::CurrentPageLoader()
+{
+  return this->SourceFile ? this->SourceFile->Loader.get() : nullptr;
+}
+
+//------------------------------------------------------------------------------
 vtkIdType vtkMultiscaleOctree::GetNumberOfBackgroundLoads()
 {
-  plod::PageLoader* loader = this->SourceFile ? this->SourceFile->Loader.get() : nullptr;
+  plod::PageLoader* loader = this->CurrentPageLoader();
   return loader ? static_cast<vtkIdType>(loader->GetLoaded()) : 0;
 }
 
 //------------------------------------------------------------------------------
 vtkIdType vtkMultiscaleOctree::GetNumberOfBackgroundMajorFaults()
 {
-  plod::PageLoader* loader = this->SourceFile ? this->SourceFile->Loader.get() : nullptr;
+  plod::PageLoader* loader = this->CurrentPageLoader();
   return loader ? static_cast<vtkIdType>(loader->GetMajorFaults()) : 0;
 }
 
 //------------------------------------------------------------------------------
 vtkIdType vtkMultiscaleOctree::GetNumberOfWaitingLoads()
 {
-  plod::PageLoader* loader = this->SourceFile ? this->SourceFile->Loader.get() : nullptr;
+  plod::PageLoader* loader = this->CurrentPageLoader();
   return loader ? static_cast<vtkIdType>(loader->GetWaiting()) : 0;
 }
 
 //------------------------------------------------------------------------------
 void vtkMultiscaleOctree::WaitForLoads()
 {
-  if (plod::PageLoader* loader = this->SourceFile ? this->SourceFile->Loader.get() : nullptr)
+  if (plod::PageLoader* loader = this->CurrentPageLoader())
   {
     loader->WaitUntilIdle();
   }

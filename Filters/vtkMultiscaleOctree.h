@@ -445,6 +445,8 @@ protected:
   struct SourceFileState;
   std::shared_ptr<SourceFileState> SourceFile;
   std::shared_ptr<plod::CornerMemo> CornerMemo;
+  /// The page loader if one was made (GetPageLoader makes it), else null.
+  plod::PageLoader* CurrentPageLoader();
   /// Adds the schema's array `spec` with `tuples` tuples (contents undefined).
   void AddSchemaArray(const plod::ArraySpec& spec, vtkIdType tuples);
 #endif
