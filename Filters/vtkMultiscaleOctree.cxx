@@ -491,7 +491,8 @@ void vtkMultiscaleOctree::EnforceResidentLimit()
     return;
   }
   std::string why;
-  if (!this->SourceFile->Resident.Enforce(&why) && !this->SourceFile->WarnedResident)
+  this->SourceFile->Resident.Enforce(nullptr);
+  if (!this->SourceFile->Resident.IsKept(&why) && !this->SourceFile->WarnedResident)
   {
     this->SourceFile->WarnedResident = true;
     vtkWarningMacro(<< "The octree file's cache limit is not kept: " << why << ".");
@@ -553,6 +554,7 @@ plod::PageLoader* vtkMultiscaleOctree::GetPageLoader()
     }
     file->Loader = std::make_unique<plod::PageLoader>();
     file->Loader->SetOctree(view, file->Memory);
+    file->Loader->SetResidentLimit(&file->Resident); // (declared before the loader: outlives it)
   }
   return file->Loader.get();
 }

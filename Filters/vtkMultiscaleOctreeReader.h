@@ -89,7 +89,8 @@ public:
   /**
    * The most of a mapped file's pages, in MiB, that the process keeps between frames (0: no
    * limit). Default 2048. It should exceed what one view reads, or every frame maps its pages
-   * again (a triangle budget bounds what a view reads).
+   * again (a triangle budget bounds what a view reads). With BackgroundLoading, the loading
+   * thread keeps it too, after each refinement it reads.
    */
   vtkSetClampMacro(CacheLimit, int, 0, VTK_INT_MAX);
   vtkGetMacro(CacheLimit, int);

@@ -277,6 +277,8 @@ void PageLoader::Run()
       ++this->Loaded;
     }
     this->MajorFaults = ThreadMajorFaults() - faults0;
+    if (this->Limit)
+      this->Limit->Enforce(nullptr); // (a failure is kept for the frame's thread to report)
     lock.lock();
     this->Running = false;
     this->Idle.notify_all();

@@ -32,9 +32,13 @@
  *   the next selection can refine further (vtkPerceptualLODSelector re-executes then, and the
  *   actor renders again while loads are pending).
  *
+ * - **Within a cache limit**: with SetResidentLimit(), the thread keeps the mapping's resident
+ *   pages within the limit after each refinement it reads (ResidentLimit::Enforce), so that what
+ *   it reads between frames is not held past the limit until the next frame.
+ *
  * Thread safety: Request(), Preload(), IsReady(), LoadNow(), ForgetRequests() and the figures
- * may be called from any thread, at once; SetOctree() and SetTouchObserver() only while no
- * other call runs. The view's arrays must
+ * may be called from any thread, at once; SetOctree(), SetResidentLimit() and
+ * SetTouchObserver() only while no other call runs. The view's arrays must
  * stay valid while the loader exists (SetOctree keeps `keepAlive`, the map's owner).
  */
 #ifndef plodPageLoader_h
@@ -68,6 +72,9 @@ public:
   /// The octree whose refinements are read; drops every flag and request. `keepAlive` owns the
   /// memory the view's arrays point into.
   void SetOctree(const OctreeView& view, std::shared_ptr<const void> keepAlive);
+
+  /// The limit the thread enforces after each read (null: none). It must outlive the loader.
+  void SetResidentLimit(ResidentLimit* limit) { this->Limit = limit; }
 
   /// Whether node `n`'s refinement has been read (false for a node out of range).
   bool IsReady(int64_t n) const
@@ -142,6 +149,7 @@ private:
   std::vector<Array> Arrays;
   ZeroPages<uint8_t> Flags;
   std::function<void(ArrayGroup, int64_t, int64_t)> TouchObserver;
+  ResidentLimit* Limit = nullptr;
 
   mutable std::mutex Mutex;
   std::condition_variable Wake, Idle;

@@ -143,14 +143,16 @@ void ResidentLimit::Attach(void* data, uint64_t bytes)
   this->Others = -1; // counted exactly at the first Enforce()
   this->LastCounted = 0;
   this->Broken = false;
+  this->WhyBroken.clear();
 }
 
 bool ResidentLimit::Count(bool release, std::string* why)
 {
   MappingResidency r;
-  if (!MeasureMappingResidency(this->Data, this->Bytes, release, r, why))
+  if (!MeasureMappingResidency(this->Data, this->Bytes, release, r, &this->WhyBroken))
   {
     this->Broken = true;
+    Fail(why, this->WhyBroken);
     return false;
   }
   this->LastCounted = release ? 0 : r.FileBytes;
@@ -164,13 +166,17 @@ bool ResidentLimit::Count(bool release, std::string* why)
 
 bool ResidentLimit::Enforce(std::string* why)
 {
-  if (this->Limit == 0 || !this->Data || this->Bytes == 0 || this->Broken)
+  if (this->Limit == 0 || !this->Data || this->Bytes == 0)
+    return true;
+  const std::lock_guard<std::mutex> lock(this->Mutex);
+  if (this->Broken)
     return true;
   const int64_t before = ProcessFileResidentBytes();
   if (before < 0)
   {
     this->Broken = true;
-    Fail(why, "/proc/self/statm cannot be read: the resident limit is not kept");
+    this->WhyBroken = "/proc/self/statm cannot be read: the resident limit is not kept";
+    Fail(why, this->WhyBroken);
     return false;
   }
   // the mapping holds at most what the process's file pages grew by since the last count
@@ -187,6 +193,40 @@ bool ResidentLimit::Enforce(std::string* why)
   // others, and the mapping could then grow past the limit unseen)
   this->Others = std::max<int64_t>(0, before - int64_t(counted));
   return true;
+}
+
+bool ResidentLimit::IsKept(std::string* why) const
+{
+  const std::lock_guard<std::mutex> lock(this->Mutex);
+  if (this->Broken)
+    Fail(why, this->WhyBroken);
+  return !this->Broken;
+}
+
+uint64_t ResidentLimit::GetReleases() const
+{
+  const std::lock_guard<std::mutex> lock(this->Mutex);
+  return this->Releases;
+}
+
+uint64_t ResidentLimit::GetReleasedBytes() const
+{
+  const std::lock_guard<std::mutex> lock(this->Mutex);
+  return this->ReleasedBytes;
+}
+
+uint64_t ResidentLimit::GetLastCountedBytes() const
+{
+  const std::lock_guard<std::mutex> lock(this->Mutex);
+  return this->LastCounted;
+}
+
+bool ResidentLimit::Release(std::string* why)
+{
+  if (!this->Data)
+    return false;
+  const std::lock_guard<std::mutex> lock(this->Mutex);
+  return this->Count(true, why);
 }
 
 void* MapZeroPages(size_t bytes)

@@ -10,9 +10,10 @@
  * are dropped from the process (they stay in the kernel's page cache while memory allows, so the
  * next read maps them again without the disk) and the pages the next views read come back.
  *
- * The bound holds between frames (the caller enforces it after each frame's reads). A frame
- * that reads more than the limit holds more while it runs, and every such frame maps its pages
- * again: the limit should exceed what one view reads (a triangle budget bounds that).
+ * The bound holds between frames: the caller enforces it after each frame's reads, and a page
+ * loader (plodPageLoader.h) after each refinement it reads. A frame that reads more than the
+ * limit holds more while it runs, and every such frame maps its pages again: the limit should
+ * exceed what one view reads (a triangle budget bounds that).
  *
  * Measuring is two steps, so that a frame under the limit costs one small read of
  * /proc/self/statm (the process's resident file-backed pages): only when those grew by more
@@ -36,6 +37,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <mutex>
 #include <string>
 #include <utility>
 
@@ -66,6 +68,10 @@ int64_t ProcessFileResidentBytes();
 /**
  * The limit on one read-only file mapping's resident pages. Attach() names the mapping, Enforce()
  * after each frame keeps it within Limit bytes (0: no limit).
+ *
+ * Thread safety: Enforce(), Release(), Measure(), IsKept() and the figures may be called from
+ * any thread, at once (a frame's thread and a page loader's); Attach() and SetLimit() only
+ * while no other call runs.
  */
 class ResidentLimit
 {
@@ -76,12 +82,14 @@ public:
   /**
    * Drops the mapping's file pages from the process when they exceed the limit. Returns false,
    * with `why`, when the limit cannot be kept (no page map, no statm): it is then not tried
-   * again.
+   * again, and IsKept() says so.
    */
   bool Enforce(std::string* why);
+  /// False, with `why`, once Enforce() found that the limit cannot be kept.
+  bool IsKept(std::string* why) const;
   /// How many times Enforce() dropped the pages, and how many bytes in all.
-  uint64_t GetReleases() const { return this->Releases; }
-  uint64_t GetReleasedBytes() const { return this->ReleasedBytes; }
+  uint64_t GetReleases() const;
+  uint64_t GetReleasedBytes() const;
   /// Counts the attached mapping's pages now (MeasureMappingResidency, nothing dropped); false
   /// when none is attached or the page map cannot be read.
   bool Measure(MappingResidency& out, std::string* why) const
@@ -90,14 +98,16 @@ public:
   }
   /// Drops the mapping's file pages from the process now, whatever the limit (written pages
   /// kept); false, with `why`, when none is attached or the page map cannot be read.
-  bool Release(std::string* why) { return this->Data && this->Count(true, why); }
+  bool Release(std::string* why);
   /// The mapping's file pages present when Enforce() last counted them exactly.
-  uint64_t GetLastCountedBytes() const { return this->LastCounted; }
+  uint64_t GetLastCountedBytes() const;
 
 private:
   /// Counts the mapping exactly (and drops its file pages when `release`); false when it cannot.
+  /// Called under the lock.
   bool Count(bool release, std::string* why);
 
+  mutable std::mutex Mutex; // over everything below but the mapping and the limit
   void* Data = nullptr;
   uint64_t Bytes = 0;
   uint64_t Limit = 0;
@@ -107,6 +117,7 @@ private:
   uint64_t Releases = 0;
   uint64_t ReleasedBytes = 0;
   bool Broken = false;
+  std::string WhyBroken;
 };
 
 /// `bytes` of zero pages that take memory when first used (an anonymous private map); throws
