@@ -55,6 +55,15 @@ class BenchmarkScriptsTest(unittest.TestCase):
         self.assertIn('background loading:', out)
         self.assertIn('refinements read by the thread', out)
 
+    @unittest.skipUnless(os.environ.get('DISPLAY'), 'the rendered flight needs an X display '
+                         '(run under xvfb-run -a)')
+    def test_flight_rendered(self):
+        out = self.run_script('plod_flight.py', self.octree, '--frames', '4', '--render',
+                              '--background-loading')
+        self.assertIn('frames timed: whole', out)
+        self.assertIn('first frame', out)
+        self.assertIn('background loading:', out)
+
     def test_orbit(self):
         out = self.run_script('patches_orbit.py', self.octree, '--frames', '4', '--budget',
                               '500', '--exact')
