@@ -351,7 +351,8 @@ public:
    * read (plodPageLoader.h). So the frame never waits on the disk, and the view refines over
    * the next frames as the pages arrive. The first view is read whole. Off, each frame reads
    * what it refines, and the same views always draw the same cut. Only a mapped file has pages
-   * to read: otherwise it does nothing. Shared by shallow copies.
+   * to read: otherwise it does nothing. Shared by shallow copies: several selectors (views of
+   * one file) share the thread, and each frame drops only its own selector's requests.
    */
   void SetBackgroundLoading(bool on);
   bool GetBackgroundLoading();

@@ -69,16 +69,23 @@ void PageLoader::SetOctree(const OctreeView& view, std::shared_ptr<const void> k
   this->Idle.notify_all();
 }
 
-void PageLoader::Request(int64_t n)
+int PageLoader::AddRequester()
 {
+  std::lock_guard<std::mutex> lock(this->Mutex);
+  return this->Requesters++ % MaxRequesters;
+}
+
+void PageLoader::Request(int64_t n, int requester)
+{
+  const uint8_t mine = FlagRequestedBy(requester);
   if (n < 0 || static_cast<size_t>(n) >= this->Flags.size() ||
-    (__atomic_load_n(&this->Flags[n], __ATOMIC_ACQUIRE) & (FlagReady | FlagRequested)) != 0)
+    (__atomic_load_n(&this->Flags[n], __ATOMIC_ACQUIRE) & (FlagReady | mine)) != 0)
     return;
   {
     std::lock_guard<std::mutex> lock(this->Mutex);
-    if ((__atomic_load_n(&this->Flags[n], __ATOMIC_ACQUIRE) & (FlagReady | FlagRequested)) != 0)
-      return;
-    __atomic_fetch_or(&this->Flags[n], FlagRequested, __ATOMIC_ACQ_REL);
+    const uint8_t flags = __atomic_fetch_or(&this->Flags[n], mine, __ATOMIC_ACQ_REL);
+    if ((flags & (FlagReady | FlagsRequested)) != 0)
+      return; // read, or queued for another requester
     const int level = std::min<int>(this->View.Level[n], MaxFinestLevel);
     this->Queue[level].push_back(n);
     ++this->Waiting;
@@ -114,17 +121,25 @@ void PageLoader::LoadNow(int64_t n)
   this->MarkReady(n);
 }
 
-void PageLoader::ForgetRequests()
+void PageLoader::ForgetRequests(int requester)
 {
+  const uint8_t mine = FlagRequestedBy(requester);
   {
     std::lock_guard<std::mutex> lock(this->Mutex);
     for (std::deque<int64_t>& level : this->Queue)
     {
+      // keep, in order, the requests someone else still makes
+      size_t kept = 0;
       for (const int64_t n : level)
-        __atomic_fetch_and(&this->Flags[n], uint8_t(~FlagRequested), __ATOMIC_ACQ_REL);
-      level.clear();
+      {
+        const uint8_t before =
+          __atomic_fetch_and(&this->Flags[n], uint8_t(~mine), __ATOMIC_ACQ_REL);
+        if ((before & FlagsRequested & ~mine) != 0)
+          level[kept++] = n;
+      }
+      this->Waiting -= level.size() - kept;
+      level.resize(kept);
     }
-    this->Waiting = 0;
   }
   this->Idle.notify_all();
 }
@@ -157,7 +172,7 @@ uint64_t PageLoader::GetWaiting() const
 void PageLoader::MarkReady(int64_t n)
 {
   __atomic_fetch_or(&this->Flags[n], FlagReady, __ATOMIC_ACQ_REL);
-  __atomic_fetch_and(&this->Flags[n], uint8_t(~FlagRequested), __ATOMIC_ACQ_REL);
+  __atomic_fetch_and(&this->Flags[n], uint8_t(~FlagsRequested), __ATOMIC_ACQ_REL);
 }
 
 void PageLoader::TouchTuples(ArrayGroup group, int64_t first, int64_t end)

@@ -28,6 +28,9 @@
  *   first (a coarser refinement is seen over more of the screen, and opens the way to the finer
  *   ones), in the order asked within a level. ForgetRequests() drops what no one has started,
  *   so each frame asks again for what it still needs and a view left behind is not loaded.
+ *   Several selections may share a loader (two views of one file): each asks as a requester of
+ *   its own (AddRequester), and forgets only its own requests; a node asked for by two is one
+ *   request, dropped when both have forgotten it.
  * - **Progress**: GetLoaded() counts the nodes made ready in the background; when it changes,
  *   the next selection can refine further (vtkPerceptualLODSelector re-executes then, and the
  *   actor renders again while loads are pending).
@@ -82,9 +85,14 @@ public:
     return n >= 0 && static_cast<size_t>(n) < this->Flags.size() &&
       (__atomic_load_n(&this->Flags[n], __ATOMIC_ACQUIRE) & FlagReady) != 0;
   }
-  /// Asks for node `n`'s refinement to be read in the background; asked again before it is,
-  /// it is one request.
-  void Request(int64_t n);
+  /// The most requesters told apart; later ones share their ids (and forget each other's).
+  static constexpr int MaxRequesters = 7;
+  /// A new requester's id, for Request() and ForgetRequests() (ids go round after
+  /// MaxRequesters; the default, 0, is the first).
+  int AddRequester();
+  /// Asks for node `n`'s refinement to be read in the background, for `requester`; asked again
+  /// before it is, by anyone, it is one request.
+  void Request(int64_t n, int requester = 0);
   /**
    * Marks node `n` ready now and reads its refinement in the background after every request
    * (ForgetRequests() leaves it): for a refinement the caller has read itself, in part (the
@@ -94,8 +102,8 @@ public:
   /// Reads node `n`'s refinement now, in the calling thread (again if it was read), and marks
   /// it ready.
   void LoadNow(int64_t n);
-  /// Drops the requests no read has started on.
-  void ForgetRequests();
+  /// Drops `requester`'s requests no read has started on (those others asked for too stay).
+  void ForgetRequests(int requester = 0);
 
   /// While paused, requests wait and the thread reads nothing (a read in progress ends first).
   void SetPaused(bool paused);
@@ -124,7 +132,12 @@ public:
 
 private:
   static constexpr uint8_t FlagReady = 1;
-  static constexpr uint8_t FlagRequested = 2;
+  /// requested by requester r: bit r + 1
+  static constexpr uint8_t FlagsRequested = 0xFE;
+  static uint8_t FlagRequestedBy(int requester)
+  {
+    return uint8_t(2u << (static_cast<unsigned>(requester) % MaxRequesters));
+  }
 
   /// Reads node `n`'s refinement (see the file documentation).
   void Load(int64_t n);
@@ -156,6 +169,7 @@ private:
   std::vector<std::deque<int64_t>> Queue; // per level
   std::deque<int64_t> Preloads;
   uint64_t Waiting = 0;
+  int Requesters = 0;   // ids given so far
   bool Running = false; // a read in progress
   bool Paused = false;
   bool Stop = false;

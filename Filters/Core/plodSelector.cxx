@@ -377,6 +377,7 @@ struct Frame
   bool CountDrawn = false;
   /// The reads of refinements (Selector::SetPageLoader), or null: every refinement is made.
   PageLoader* Pages = nullptr;
+  int PageRequester = 0; // who asks (PageLoader::AddRequester)
   /// With Pages: every refinement is made and read in the frame (the first view), none asked
   /// for.
   bool WaitForPages = false;
@@ -1053,14 +1054,15 @@ template <Policy P, bool WithPriority>
   const Decision d = JudgeCell<P, WithPriority>(f, n, C, brightnessOnly, inside);
   if (d.What != Verdict::Refine || !f.Pages || f.WaitForPages || f.Pages->IsReady(n))
     return d;
-  f.Pages->Request(n);
+  f.Pages->Request(n, f.PageRequester);
   return Draw(AwaitingPages);
 }
 
 /// `f` with the selector's page loader (Frame::Pages).
-inline Frame WithPages(Frame f, PageLoader* pages, bool wait)
+inline Frame WithPages(Frame f, PageLoader* pages, int requester, bool wait)
 {
   f.Pages = pages;
+  f.PageRequester = requester;
   f.WaitForPages = wait;
   return f;
 }
@@ -1339,6 +1341,7 @@ void Selector::SetPageLoader(PageLoader* loader)
   if (loader != this->Pages)
   {
     this->Pages = loader;
+    this->PageRequester = loader ? loader->AddRequester() : 0;
     this->FirstViewRead = false;
   }
 }
@@ -1406,7 +1409,7 @@ void Selector::Select(const SelectionInput& in, uint8_t* state, uint8_t* reason,
   }
   if (this->Pages)
   {
-    this->Pages->ForgetRequests(); // this frame asks again for what it still needs
+    this->Pages->ForgetRequests(this->PageRequester); // this frame asks again for what it needs
   }
   if (in.TriangleBudget > 0)
   {
@@ -1725,7 +1728,7 @@ int64_t WalkInParallel(const Frame& frame, std::vector<EntryType>& stack, CutWri
 {
   const Frame frame =
     WithPages(MakeFrame(this->View, in, &this->Cones, this->FrameLights, &this->Fovea), this->Pages,
-      !this->FirstViewRead);
+      this->PageRequester, !this->FirstViewRead);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   // the walk's stack is a member: its capacity is kept from frame to frame
   std::vector<Entry>& stack = this->Stack;
@@ -1859,7 +1862,7 @@ int64_t CoarsenFront(const Frame& frame, std::vector<EntryType>& next, std::vect
 {
   const Frame frame =
     WithPages(MakeFrame(this->View, in, &this->Cones, this->FrameLights, &this->Fovea), this->Pages,
-      !this->FirstViewRead);
+      this->PageRequester, !this->FirstViewRead);
   this->Previous.clear(); // rebuilt below from the new front
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   this->Stack.clear();
@@ -2307,8 +2310,8 @@ void Selector::SelectWithinBudget(const SelectionInput& in, int64_t budget, uint
   uint8_t* reason, uint8_t* cullMask, SelectionStats& stats)
 {
   // (no foveation table: the budget's priorities need the exact factor)
-  const Frame frame = WithPages(
-    MakeFrame(this->View, in, &this->Cones, this->FrameLights), this->Pages, !this->FirstViewRead);
+  const Frame frame = WithPages(MakeFrame(this->View, in, &this->Cones, this->FrameLights),
+    this->Pages, this->PageRequester, !this->FirstViewRead);
   CutWriter cut{ state, reason, cullMask, this->Previous, stats };
   this->Stack.clear();
   this->Queue.clear();

@@ -521,7 +521,9 @@ public:
    * in the frame (the first view is drawn whole); its refinements are then marked read and read
    * again in the background (PageLoader::Preload: the frame skips what it culls, which a later
    * view may show). Each selection drops the requests the last one left waiting
-   * (PageLoader::ForgetRequests) and asks again for what it still needs. Under a triangle
+   * (PageLoader::ForgetRequests) and asks again for what it still needs; the requests of other
+   * selectors sharing the loader stay (each is a requester of its own,
+   * PageLoader::AddRequester). Under a triangle
    * budget, a cell waits for its pages even when the budget would not refine it, so the loader
    * reads one level beyond the budget's cut: what a zoom needs next.
    */
@@ -637,6 +639,7 @@ private:
   std::vector<std::vector<std::pair<uint32_t, float>>> AheadStacks;
   /// SetPageLoader's loader, and whether a selection with it was made (the first view read)
   PageLoader* Pages = nullptr;
+  int PageRequester = 0;
   bool FirstViewRead = false;
   /// After the first view: its refinements (the cut in `state`) marked read, and preloaded.
   void PreloadRefinements(const uint8_t* state);

@@ -247,6 +247,102 @@ TEST(PageLoader, ForgottenRequestsAreNotRead)
   EXPECT_FALSE(loader.IsReady(2));
 }
 
+TEST(PageLoader, EachRequesterForgetsOnlyItsOwnRequests)
+{
+  plod::OctreeStorage storage;
+  const plod::OctreeView v = BuildSphere(storage, 30);
+  plod::PageLoader loader;
+  loader.SetOctree(v, nullptr);
+  const int a = loader.AddRequester(), b = loader.AddRequester();
+  EXPECT_NE(a, b);
+  loader.SetPaused(true);
+  loader.Request(1, a);
+  loader.Request(2, b);
+  loader.Request(3, a);
+  loader.Request(3, b); // asked by both: one request
+  EXPECT_EQ(loader.GetWaiting(), 3u);
+  loader.ForgetRequests(a); // b's stay, 3 among them
+  EXPECT_EQ(loader.GetWaiting(), 2u);
+  loader.SetPaused(false);
+  loader.WaitUntilIdle();
+  EXPECT_FALSE(loader.IsReady(1));
+  EXPECT_TRUE(loader.IsReady(2));
+  EXPECT_TRUE(loader.IsReady(3));
+  EXPECT_EQ(loader.GetLoaded(), 2u);
+  // forgotten by both: not read
+  loader.SetPaused(true);
+  loader.Request(4, a);
+  loader.Request(4, b);
+  loader.ForgetRequests(b);
+  EXPECT_EQ(loader.GetWaiting(), 1u);
+  loader.ForgetRequests(a);
+  EXPECT_EQ(loader.GetWaiting(), 0u);
+  loader.SetPaused(false);
+  loader.WaitUntilIdle();
+  EXPECT_FALSE(loader.IsReady(4));
+  // ids go round past MaxRequesters
+  for (int k = 2; k < plod::PageLoader::MaxRequesters; ++k)
+    loader.AddRequester();
+  EXPECT_EQ(loader.AddRequester(), a);
+}
+
+TEST(PageLoader, TwoSelectionsSharingALoaderKeepEachOthersRequests)
+{
+  // Two views of one file (two selectors on one loader), the reads held: each selection forgets
+  // only its own requests, so a view that keeps selecting does not starve the other; once the
+  // reads are let go, both reach their full cuts.
+  plod::OctreeStorage storage;
+  const plod::OctreeView v = BuildSphere(storage, 80);
+  const double c = 0.5 * v.RootEdge;
+  plod::SelectionInput front = plodtest::Viewer(c, c, c + 0.7 * v.RootEdge),
+                       back = plodtest::Viewer(c, c, c - 0.7 * v.RootEdge);
+  front.PixelScale = back.PixelScale = 4000;
+  plod::PageLoader loader;
+  loader.SetOctree(v, nullptr);
+  plod::Selector one, two;
+  for (plod::Selector* s : { &one, &two })
+  {
+    s->SetOctree(v);
+    s->SetPageLoader(&loader);
+  }
+  Cut oneCut(v.NumberOfNodes), twoCut(v.NumberOfNodes);
+  const plod::SelectionInput far = ViewerAt(v, 3.0);
+  oneCut.Select(one, far); // the first views: read whole, in the frame
+  twoCut.Select(two, far);
+  loader.WaitUntilIdle();
+  loader.SetPaused(true);
+  oneCut.Select(one, front);
+  twoCut.Select(two, back);
+  const auto awaited = [&](const Cut& cut) {
+    std::vector<int64_t> nodes;
+    for (int64_t n = 0; n < v.NumberOfNodes; ++n)
+      if (cut.State[n] != plod::NotInCut && cut.Reason[n] == plod::AwaitingPages)
+        nodes.push_back(n);
+    return nodes;
+  };
+  std::vector<int64_t> both = awaited(oneCut), twos = awaited(twoCut);
+  ASSERT_FALSE(twos.empty());
+  both.insert(both.end(), twos.begin(), twos.end());
+  std::sort(both.begin(), both.end());
+  both.erase(std::unique(both.begin(), both.end()), both.end());
+  ASSERT_GT(both.size(), awaited(oneCut).size()) << "the views should await different cells";
+  EXPECT_EQ(loader.GetWaiting(), both.size());
+  oneCut.Select(one, front); // forgets its own requests and asks again: two's stay
+  EXPECT_EQ(loader.GetWaiting(), both.size());
+  // one keeps selecting, two selects only when all is read: two's view is read all the same
+  loader.SetPaused(false);
+  for (int frame = 0; frame <= 2 * plod::MaxFinestLevel; ++frame)
+  {
+    loader.WaitUntilIdle();
+    oneCut.Select(one, front);
+  }
+  loader.WaitUntilIdle();
+  for (const int64_t n : twos)
+  {
+    EXPECT_TRUE(loader.IsReady(n)) << "node " << n << " of the second view was not read";
+  }
+}
+
 TEST(PageLoader, SelectionDrawsAncestorsUntilTheReadsArrive)
 {
   plod::OctreeStorage storage;
