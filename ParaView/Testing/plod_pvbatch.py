@@ -33,6 +33,7 @@ two-ranks (mpiexec -np 2 pvbatch --symmetric: the script runs on every rank):
 """
 import os
 import sys
+import time
 
 import numpy as np
 
@@ -359,6 +360,27 @@ def octree_filters(out):
     count = LOD(from_file).GetNumberOfTriangles()
     check(count == direct, "with BackgroundLoading the first view draws the same triangles "
           "(%d, %d)" % (count, direct))
+    # a move closer: what the first view did not read is drawn coarser until the thread has
+    # read it, and renders again refine to what the plain reader draws there
+    lod = LOD(from_file)
+    dolly_to(view, 0.15 * camera_distance(GetActiveCamera()))
+    awaited = lod.GetNumberOfAwaitingCells()
+    for _ in range(300):  # (a bound for a stuck thread: the reads take milliseconds)
+        if lod.GetNumberOfAwaitingCells() == 0:
+            break
+        time.sleep(0.01)
+        Render(view)
+    streamed = lod.GetNumberOfTriangles()
+    check(awaited > 0 and lod.GetNumberOfAwaitingCells() == 0, "with BackgroundLoading the "
+          "move draws cells awaiting their pages (%d), and renders refine until none awaits"
+          % awaited)
+    read.BackgroundLoading = 0
+    Render(view)
+    plain = lod.GetNumberOfTriangles()
+    check(streamed == plain and plain > 0, "refined, the close view draws what the plain "
+          "reader draws (%d, %d)" % (streamed, plain))
+    say("background loading in ParaView: %d cells awaited their pages after a move closer"
+        % awaited)
 
     # a PLY file built without loading it: the same surface triangles as the mesh
     from paraview.simple import MultiscaleOctreeFromPLYFile

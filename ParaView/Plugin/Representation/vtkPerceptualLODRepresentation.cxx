@@ -611,6 +611,12 @@ vtkIdType vtkPerceptualLODRepresentation::GetNumberOfCutNodes()
 }
 
 //------------------------------------------------------------------------------
+vtkIdType vtkPerceptualLODRepresentation::GetNumberOfAwaitingCells()
+{
+  return this->Actor->GetSelector()->GetNumberOfAwaitingCells();
+}
+
+//------------------------------------------------------------------------------
 void vtkPerceptualLODRepresentation::GetSelectorEyePosition(double eye[3])
 {
   this->Actor->GetSelector()->GetEyePosition(eye);

@@ -217,6 +217,11 @@ public:
   vtkGetMacro(NumberOfPatchUpdates, int);
   vtkIdType GetNumberOfTriangles();
   vtkIdType GetNumberOfCutNodes();
+  /// Cells of the last cut drawn coarser while their pages are read (an octree file read with
+  /// the reader's BackgroundLoading; vtkPerceptualLODSelector::GetNumberOfAwaitingCells). The
+  /// view refines at the next renders as they arrive: in the GUI the actor asks its interactor
+  /// for them; a script or a server without an interactor renders again itself.
+  vtkIdType GetNumberOfAwaitingCells();
   void GetSelectorEyePosition(double eye[3]);
   /// The same, as a pointer (for ParaView's information properties); valid until the next call.
   double* GetSelectorEye() VTK_SIZEHINT(3);
