@@ -4,9 +4,13 @@
 #include "plodOctreeSchema.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <string>
 #include <sys/resource.h>
 #include <unistd.h>
+#if defined(__linux__)
+#include <sys/syscall.h>
+#endif
 
 namespace plod
 {
@@ -28,6 +32,25 @@ uint64_t ThreadMajorFaults()
 {
   rusage u{};
   return getrusage(RUSAGE_THREAD, &u) == 0 ? static_cast<uint64_t>(u.ru_majflt) : 0;
+}
+
+/// Makes the calling thread `niceness` nicer than the process (Linux: a thread's own priority);
+/// returns the nice value it then runs at.
+int RunNicer(int niceness)
+{
+  errno = 0;
+  const int process = getpriority(PRIO_PROCESS, 0);
+  if (errno != 0)
+    return 0;
+#if defined(__linux__)
+  const id_t thread = static_cast<id_t>(syscall(SYS_gettid));
+  const int wanted = std::min(19, process + niceness);
+  if (setpriority(PRIO_PROCESS, thread, wanted) == 0)
+    return wanted;
+#else
+  (void)niceness;
+#endif
+  return process;
 }
 } // namespace
 
@@ -246,6 +269,7 @@ void PageLoader::Load(int64_t n)
 
 void PageLoader::Run()
 {
+  this->ThreadNice = RunNicer(ThreadNiceness); // the frame's threads go first
   const uint64_t faults0 = ThreadMajorFaults();
   std::unique_lock<std::mutex> lock(this->Mutex);
   while (true)

@@ -35,6 +35,9 @@
  *   the next selection can refine further (vtkPerceptualLODSelector re-executes then, and the
  *   actor renders again while loads are pending).
  *
+ * - **Behind the frame**: the thread runs ThreadNiceness nicer than the process (Linux), so that
+ *   on a machine whose cores are busy with the frame (the patch generator's threads, a software
+ *   renderer) the reads take what the frame leaves.
  * - **Within a cache limit**: with SetResidentLimit(), the thread keeps the mapping's resident
  *   pages within the limit after each refinement it reads (ResidentLimit::Enforce), so that what
  *   it reads between frames is not held past the limit until the next frame.
@@ -85,6 +88,12 @@ public:
     return n >= 0 && static_cast<size_t>(n) < this->Flags.size() &&
       (__atomic_load_n(&this->Flags[n], __ATOMIC_ACQUIRE) & FlagReady) != 0;
   }
+  /// How much nicer than the process the thread runs (Linux), so that on a busy machine the
+  /// frame's threads (the patches, a software renderer) go before the reads.
+  static constexpr int ThreadNiceness = 10;
+  /// The nice value the thread runs at (0 before it started).
+  int GetThreadNice() const { return this->ThreadNice.load(); }
+
   /// The most requesters told apart; later ones share their ids (and forget each other's).
   static constexpr int MaxRequesters = 7;
   /// A new requester's id, for Request() and ForgetRequests() (ids go round after
@@ -179,6 +188,7 @@ private:
   std::atomic<int64_t> LastLoaded{ -1 };
   std::atomic<uint64_t> PagesTouched{ 0 };
   std::atomic<uint64_t> MajorFaults{ 0 };
+  std::atomic<int> ThreadNice{ 0 };
 };
 
 } // namespace plod

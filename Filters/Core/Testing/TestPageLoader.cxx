@@ -12,9 +12,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <string>
 #include <vector>
+
+#include <sys/resource.h>
 
 namespace
 {
@@ -280,6 +283,15 @@ TEST(PageLoader, EachRequesterForgetsOnlyItsOwnRequests)
   loader.SetPaused(false);
   loader.WaitUntilIdle();
   EXPECT_FALSE(loader.IsReady(4));
+  // the thread runs nicer than the process, so that the frame's threads go first
+  errno = 0;
+  const int process = getpriority(PRIO_PROCESS, 0);
+  ASSERT_EQ(errno, 0);
+#if defined(__linux__)
+  EXPECT_EQ(loader.GetThreadNice(), std::min(19, process + plod::PageLoader::ThreadNiceness));
+#else
+  EXPECT_EQ(loader.GetThreadNice(), process);
+#endif
   // ids go round past MaxRequesters
   for (int k = 2; k < plod::PageLoader::MaxRequesters; ++k)
     loader.AddRequester();
