@@ -478,6 +478,7 @@ void vtkMultiscaleOctree::SetMappedPages(
     vtkErrorMacro("SetMappedPages needs the source file first (SetSourceFile).");
     return;
   }
+  this->SourceFile->Loader = nullptr; // (joins its thread: it reads the old map and limit)
   this->SourceFile->Memory = std::move(memory);
   this->SourceFile->Resident.Attach(start, bytes);
   this->SourceFile->Resident.SetLimit(limit);

@@ -52,10 +52,17 @@ int RunNicer(int niceness)
 #endif
   return process;
 }
+
+uint64_t NextSerial()
+{
+  static std::atomic<uint64_t> next{ 1 };
+  return next++;
+}
 } // namespace
 
 PageLoader::PageLoader()
-  : Queue(MaxFinestLevel + 1)
+  : Serial(NextSerial())
+  , Queue(MaxFinestLevel + 1)
 {
 }
 

@@ -79,6 +79,9 @@ public:
   /// memory the view's arrays point into.
   void SetOctree(const OctreeView& view, std::shared_ptr<const void> keepAlive);
 
+  /// This loader's number, unique in the process (a new loader may take a freed one's address).
+  uint64_t GetSerial() const { return this->Serial; }
+
   /// The limit the thread enforces after each read (null: none). It must outlive the loader.
   void SetResidentLimit(ResidentLimit* limit) { this->Limit = limit; }
 
@@ -172,6 +175,7 @@ private:
   ZeroPages<uint8_t> Flags;
   std::function<void(ArrayGroup, int64_t, int64_t)> TouchObserver;
   ResidentLimit* Limit = nullptr;
+  const uint64_t Serial;
 
   mutable std::mutex Mutex;
   std::condition_variable Wake, Idle;

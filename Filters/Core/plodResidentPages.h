@@ -82,7 +82,7 @@ public:
   /**
    * Drops the mapping's file pages from the process when they exceed the limit. Returns false,
    * with `why`, when the limit cannot be kept (no page map, no statm): it is then not tried
-   * again, and IsKept() says so.
+   * again, and IsKept() says so. A call waits for one running in another thread.
    */
   bool Enforce(std::string* why);
   /// False, with `why`, once Enforce() found that the limit cannot be kept.

@@ -1338,9 +1338,11 @@ void Selector::SetOctree(const OctreeView& view)
 
 void Selector::SetPageLoader(PageLoader* loader)
 {
-  if (loader != this->Pages)
+  const uint64_t serial = loader ? loader->GetSerial() : 0;
+  if (loader != this->Pages || serial != this->PagesSerial)
   {
     this->Pages = loader;
+    this->PagesSerial = serial;
     this->PageRequester = loader ? loader->AddRequester() : 0;
     this->FirstViewRead = false;
   }

@@ -639,6 +639,7 @@ private:
   std::vector<std::vector<std::pair<uint32_t, float>>> AheadStacks;
   /// SetPageLoader's loader, and whether a selection with it was made (the first view read)
   PageLoader* Pages = nullptr;
+  uint64_t PagesSerial = 0; // PageLoader::GetSerial (a new loader may take a freed address)
   int PageRequester = 0;
   bool FirstViewRead = false;
   /// After the first view: its refinements (the cut in `state`) marked read, and preloaded.
