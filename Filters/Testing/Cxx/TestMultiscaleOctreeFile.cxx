@@ -1072,6 +1072,7 @@ TEST(MultiscaleOctreeFile, CacheLimitKeepsTheMappedPagesWithinIt)
   // selector and the patch generator), the pages of the file the process holds are within the
   // limit, and every frame draws what it draws without a limit, point for point. Without a
   // limit, the same flight holds more than it; with one above the file, nothing is dropped.
+  // Read with BackgroundLoading, the pages are within the limit after the thread's reads too.
   if (!PageMapReadable())
     GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
   auto octree = BuildOctree(160);
@@ -1084,12 +1085,14 @@ TEST(MultiscaleOctreeFile, CacheLimitKeepsTheMappedPagesWithinIt)
     std::vector<vtkSmartPointer<vtkPolyData>> Frames;
     vtkIdType MostResident = 0;
     vtkIdType Releases = 0;
+    vtkIdType Loads = 0;
   };
-  const auto fly = [&](int limitMiB) {
+  const auto fly = [&](int limitMiB, bool background) {
     Flight f;
     vtkNew<vtkMultiscaleOctreeReader> reader;
     reader->SetFileName(path.c_str());
     reader->SetCacheLimit(limitMiB);
+    reader->SetBackgroundLoading(background);
     vtkNew<vtkPerceptualLODSelector> selector;
     vtkNew<vtkMultiscalePatchGenerator> patches;
     selector->SetInputConnection(reader->GetOutputPort());
@@ -1102,6 +1105,12 @@ TEST(MultiscaleOctreeFile, CacheLimitKeepsTheMappedPagesWithinIt)
       selector->SetEyePosition(d * std::sin(a), 0.3 * d, d * std::cos(a));
       patches->Update();
       EXPECT_TRUE(reader->GetMapped());
+      if (background)
+      {
+        // the thread's reads between frames are within the limit too, before any frame
+        reader->GetOutput()->WaitForLoads();
+        f.Loads = reader->GetOutput()->GetNumberOfBackgroundLoads();
+      }
       const vtkIdType resident = reader->GetOutput()->GetMappedResidentBytes();
       EXPECT_GE(resident, 0);
       f.MostResident = std::max(f.MostResident, resident);
@@ -1116,13 +1125,17 @@ TEST(MultiscaleOctreeFile, CacheLimitKeepsTheMappedPagesWithinIt)
     f.Releases = reader->GetOutput()->GetNumberOfResidentReleases();
     return f;
   };
-  const Flight free = fly(0);
+  const Flight free = fly(0, false);
   ASSERT_GT(free.MostResident, 2 << 20) << "the flight should read more than the limit tried";
   EXPECT_EQ(free.Releases, 0);
-  const Flight limited = fly(2);
+  const Flight limited = fly(2, false);
   EXPECT_GT(limited.Releases, 0);
-  const Flight above = fly(int(fileBytes >> 20) + 1);
+  const Flight above = fly(int(fileBytes >> 20) + 1, false);
   EXPECT_EQ(above.Releases, 0);
+  // read in the background: the limit holds after the thread's reads as after the frames
+  const Flight loaded = fly(2, true);
+  EXPECT_GT(loaded.Loads, 0);
+  EXPECT_GT(loaded.Releases, 0);
   for (size_t k = 0; k < free.Frames.size(); ++k)
   {
     for (const Flight* other : { &limited, &above })
