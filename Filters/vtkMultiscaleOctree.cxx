@@ -492,8 +492,7 @@ void vtkMultiscaleOctree::EnforceResidentLimit()
     return;
   }
   std::string why;
-  this->SourceFile->Resident.Enforce(nullptr);
-  if (!this->SourceFile->Resident.IsKept(&why) && !this->SourceFile->WarnedResident)
+  if (!this->SourceFile->Resident.Enforce(&why) && !this->SourceFile->WarnedResident)
   {
     this->SourceFile->WarnedResident = true;
     vtkWarningMacro(<< "The octree file's cache limit is not kept: " << why << ".");

@@ -170,7 +170,10 @@ bool ResidentLimit::Enforce(std::string* why)
     return true;
   const std::lock_guard<std::mutex> lock(this->Mutex);
   if (this->Broken)
-    return true;
+  {
+    Fail(why, this->WhyBroken);
+    return false;
+  }
   const int64_t before = ProcessFileResidentBytes();
   if (before < 0)
   {
@@ -193,14 +196,6 @@ bool ResidentLimit::Enforce(std::string* why)
   // others, and the mapping could then grow past the limit unseen)
   this->Others = std::max<int64_t>(0, before - int64_t(counted));
   return true;
-}
-
-bool ResidentLimit::IsKept(std::string* why) const
-{
-  const std::lock_guard<std::mutex> lock(this->Mutex);
-  if (this->Broken)
-    Fail(why, this->WhyBroken);
-  return !this->Broken;
 }
 
 uint64_t ResidentLimit::GetReleases() const

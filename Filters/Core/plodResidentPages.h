@@ -69,7 +69,7 @@ int64_t ProcessFileResidentBytes();
  * The limit on one read-only file mapping's resident pages. Attach() names the mapping, Enforce()
  * after each frame keeps it within Limit bytes (0: no limit).
  *
- * Thread safety: Enforce(), Release(), Measure(), IsKept() and the figures may be called from
+ * Thread safety: Enforce(), Release(), Measure() and the figures may be called from
  * any thread, at once (a frame's thread and a page loader's); Attach() and SetLimit() only
  * while no other call runs.
  */
@@ -81,12 +81,10 @@ public:
   uint64_t GetLimit() const { return this->Limit; }
   /**
    * Drops the mapping's file pages from the process when they exceed the limit. Returns false,
-   * with `why`, when the limit cannot be kept (no page map, no statm): it is then not tried
-   * again, and IsKept() says so. A call waits for one running in another thread.
+   * with `why`, when the limit cannot be kept (no page map, no statm), at that call and every
+   * later one (it is not tried again). A call waits for one running in another thread.
    */
   bool Enforce(std::string* why);
-  /// False, with `why`, once Enforce() found that the limit cannot be kept.
-  bool IsKept(std::string* why) const;
   /// How many times Enforce() dropped the pages, and how many bytes in all.
   uint64_t GetReleases() const;
   uint64_t GetReleasedBytes() const;

@@ -1339,7 +1339,7 @@ void Selector::SetOctree(const OctreeView& view)
 void Selector::SetPageLoader(PageLoader* loader)
 {
   const uint64_t serial = loader ? loader->GetSerial() : 0;
-  if (loader != this->Pages || serial != this->PagesSerial)
+  if (serial != this->PagesSerial) // (not the address: a new loader may take a freed one's)
   {
     this->Pages = loader;
     this->PagesSerial = serial;

@@ -35,9 +35,7 @@ import resource
 import statistics
 import time
 
-from plod_views import look, selection_pipeline
-
-from plod_views import HEIGHT, VIEW_ANGLE, WIDTH
+from plod_views import HEIGHT, WIDTH, look, place_camera, selection_pipeline
 
 from perceptual_lod import vtkMultiscaleOctreeReader, vtkPerceptualLODActor
 
@@ -111,12 +109,7 @@ class RenderedFrames:
         self.patches = self.actor.GetPatchGenerator()
 
     def frame(self, eye, focus, distance):
-        camera = self.renderer.GetActiveCamera()
-        camera.SetFocalPoint(focus)
-        camera.SetPosition(eye)
-        camera.SetViewUp(0, 1, 0)
-        camera.SetViewAngle(VIEW_ANGLE)
-        camera.SetClippingRange(distance * 0.01, distance * 10)
+        place_camera(self.renderer.GetActiveCamera(), eye, focus, distance)
         t = time.perf_counter()
         self.window.Render()
         self.window.WaitForCompletion()

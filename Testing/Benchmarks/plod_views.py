@@ -25,14 +25,21 @@ def selection_pipeline(port, budget=0, exact=None):
     return selector, patches
 
 
-def look(selector, eye, focus, distance):
-    """Points `selector` from `eye` at `focus`, `distance` apart: the frustum of a camera with
-    VTK's default view angle clipped at 0.01 and 10 times the distance, the light at the eye."""
-    camera = vtkCamera()
+def place_camera(camera, eye, focus, distance):
+    """Puts `camera` at `eye` looking at `focus`, `distance` apart, +y up, with VTK's default
+    view angle, clipped at 0.01 and 10 times the distance (the benchmarks' every view)."""
     camera.SetFocalPoint(focus)
     camera.SetPosition(eye)
+    camera.SetViewUp(0, 1, 0)
     camera.SetViewAngle(VIEW_ANGLE)
     camera.SetClippingRange(distance * 0.01, distance * 10)
+
+
+def look(selector, eye, focus, distance):
+    """Points `selector` from `eye` at `focus`, `distance` apart: the frustum of place_camera's
+    camera, the light at the eye."""
+    camera = vtkCamera()
+    place_camera(camera, eye, focus, distance)
     planes = [0.0] * 24
     camera.GetFrustumPlanes(WIDTH / HEIGHT, planes)
     selector.SetEyePosition(eye)
