@@ -464,6 +464,8 @@ struct vtkMultiscaleOctree::SourceFileState
   std::shared_ptr<void> Memory;
   plod::ResidentLimit Resident;
   bool WarnedResident = false;
+  // the filters' counts of what they keep for the octree (CountHeldBytes)
+  std::vector<std::weak_ptr<const std::atomic<uint64_t>>> Held;
   // background reads of the pages (SetBackgroundLoading), made at the first GetPageLoader()
   bool BackgroundLoading = false;
   std::unique_ptr<plod::PageLoader> Loader;
@@ -491,6 +493,17 @@ void vtkMultiscaleOctree::EnforceResidentLimit()
   {
     return;
   }
+  // what the filters keep for the octree counts against the limit too
+  SourceFileState& file = *this->SourceFile;
+  uint64_t held = this->CornerMemo ? this->CornerMemo->CutCluster.capacity() * sizeof(int32_t) : 0;
+  file.Held.erase(std::remove_if(file.Held.begin(), file.Held.end(),
+                    [&held](const std::weak_ptr<const std::atomic<uint64_t>>& w) {
+                      const auto bytes = w.lock();
+                      held += bytes ? bytes->load(std::memory_order_relaxed) : 0;
+                      return !bytes;
+                    }),
+    file.Held.end());
+  file.Resident.SetHeld(held);
   std::string why;
   if (!this->SourceFile->Resident.Enforce(&why) && !this->SourceFile->WarnedResident)
   {
@@ -604,6 +617,29 @@ vtkIdType vtkMultiscaleOctree::GetMappedResidentBytes()
     return -1;
   }
   return static_cast<vtkIdType>(r.FileBytes + r.PrivateBytes);
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctree::CountHeldBytes(const std::shared_ptr<const std::atomic<uint64_t>>& bytes)
+{
+  if (!this->SourceFile || !bytes)
+  {
+    return;
+  }
+  for (const auto& w : this->SourceFile->Held)
+  {
+    if (w.lock() == bytes)
+    {
+      return;
+    }
+  }
+  this->SourceFile->Held.push_back(bytes);
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkMultiscaleOctree::GetHeldBytes()
+{
+  return this->SourceFile ? static_cast<vtkIdType>(this->SourceFile->Resident.GetHeld()) : 0;
 }
 
 //------------------------------------------------------------------------------

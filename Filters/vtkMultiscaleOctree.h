@@ -54,6 +54,7 @@
 #include "PerceptualLODFiltersModule.h" // for export macro
 #include "vtkDataObject.h"
 
+#include <atomic> // for the held bytes
 #include <memory> // for the checked view
 #include <string> // for CheckConsistency
 #include <vector> // for the check's key
@@ -337,6 +338,16 @@ public:
    */
   std::shared_ptr<plod::CornerMemo> GetCornerMemo();
   /**
+   * Counts memory a filter keeps for this octree against the reader's CacheLimit, beside the
+   * mapped pages: `bytes` is the filter's own count, which it keeps up to date; each
+   * EnforceResidentLimit() adds up the counts of the filters still alive (the octree keeps a weak
+   * reference: a filter deleted stops counting), with the remembered corner walks
+   * (GetCornerMemo), and keeps the mapped pages within the limit less that sum, and at least an
+   * eighth of the limit (plod::ResidentLimit::SetHeld). Counting the same one again changes
+   * nothing. Shared by shallow copies; does nothing for an octree not mapped from a file.
+   */
+  void CountHeldBytes(const std::shared_ptr<const std::atomic<uint64_t>>& bytes);
+  /**
    * The background reader of the mapped file's pages (plod::PageLoader), made at the first
    * call when SetBackgroundLoading() is on and the octree is mapped and consistent; null
    * otherwise. Shared by shallow copies (vtkPerceptualLODSelector passes it to its walks).
@@ -370,7 +381,8 @@ public:
    * Keeps the mapped file's pages that this process holds within the reader's CacheLimit: when
    * they exceed it, they are dropped (the kernel's page cache keeps them while memory allows,
    * and the next views map again what they read). The selector and the patch generator call it
-   * after each execution; an octree that was not mapped from a file has nothing to keep. Warns
+   * after each execution; an octree that was not mapped from a file has nothing to keep. The
+   * memory the filters keep for the octree counts against the same limit (CountHeldBytes). Warns
    * once where the limit cannot be kept (no /proc/self/pagemap).
    */
   void EnforceResidentLimit();
@@ -380,6 +392,9 @@ public:
   bool ReleaseMappedPages();
   /// How many times EnforceResidentLimit() dropped the mapped pages (0 without a limit).
   vtkIdType GetNumberOfResidentReleases();
+  /// The bytes that counted against the reader's CacheLimit beside the mapped pages at the last
+  /// EnforceResidentLimit() (see CountHeldBytes; 0 for an octree not mapped from a file).
+  vtkIdType GetHeldBytes();
   /// The bytes of the mapped file that this process holds now, counted page by page (-1 when
   /// the octree was not mapped from a file or the pages cannot be counted).
   vtkIdType GetMappedResidentBytes();

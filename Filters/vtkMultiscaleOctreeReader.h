@@ -33,7 +33,8 @@
  * The file is read again only when the reader is asked to (Modified(), or a new FileName).
  *
  * The pages of a mapped file that the process holds are kept within CacheLimit (2048 MiB by
- * default): when the views have mapped more, the selector and the patch generator drop them
+ * default), less the arrays the filters keep for the octree, which count against the same
+ * limit: when the views have mapped more, the selector and the patch generator drop them
  * after their execution (vtkMultiscaleOctree::EnforceResidentLimit, plodResidentPages.h), and the
  * next views map again what they read, from the kernel's page cache while memory allows. A file
  * smaller than the limit is never trimmed.
@@ -87,10 +88,15 @@ public:
 
   ///@{
   /**
-   * The most of a mapped file's pages, in MiB, that the process keeps between frames (0: no
-   * limit). Default 2048. It should exceed what one view reads, or every frame maps its pages
-   * again (a triangle budget bounds what a view reads). With BackgroundLoading, the loading
-   * thread keeps it too, after each refinement it reads.
+   * The most memory, in MiB, that viewing a mapped file keeps between frames (0: no limit):
+   * the file's pages the process holds, and the arrays the filters keep for the octree, which
+   * grow with it (the selector's cut arrays, a byte a node each; the remembered corner walks,
+   * four bytes a point; the patch generator's output index, four bytes a cluster:
+   * vtkMultiscaleOctree::CountHeldBytes). The pages are kept within the limit less those
+   * arrays, and at least an eighth of it. Default 2048. It should exceed what one view reads
+   * plus the arrays, or every frame maps its pages again (a triangle budget bounds what a view
+   * reads). With BackgroundLoading, the loading thread keeps it too, after each refinement it
+   * reads.
    */
   vtkSetClampMacro(CacheLimit, int, 0, VTK_INT_MAX);
   vtkGetMacro(CacheLimit, int);

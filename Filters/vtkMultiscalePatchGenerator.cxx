@@ -21,8 +21,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <vector>
 
 vtkStandardNewMacro(vtkMultiscalePatchGenerator);
@@ -32,6 +34,8 @@ struct vtkMultiscalePatchGenerator::Internals
   plod::PatchWorkspace Workspace;
   plod::PatchResult Result;
   std::vector<uint8_t> FullCut; // used when the input carries no cut
+  // what the workspace keeps per cluster, counted against the reader's CacheLimit
+  std::shared_ptr<std::atomic<uint64_t>> Held = std::make_shared<std::atomic<uint64_t>>(0);
 };
 
 //------------------------------------------------------------------------------
@@ -263,7 +267,11 @@ int vtkMultiscalePatchGenerator::RequestData(
   {
     AddInputPointIds(v, r, output);
   }
-  input->EnforceResidentLimit(); // the pages read here, within the reader's CacheLimit
+  // the pages read here, and the output index per cluster, within the reader's CacheLimit
+  this->Internal->Held->store(
+    this->Internal->Workspace.OutputOf.capacity() * sizeof(int32_t), std::memory_order_relaxed);
+  input->CountHeldBytes(this->Internal->Held);
+  input->EnforceResidentLimit();
   timer->StopTimer();
   this->RecordFigures(r, timer->GetElapsedTime());
   return 1;

@@ -19,10 +19,12 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <vector>
 
 vtkStandardNewMacro(vtkPerceptualLODSelector);
@@ -59,6 +61,8 @@ struct vtkPerceptualLODSelector::Internals
   vtkSmartPointer<vtkUnsignedCharArray> Reason;
   vtkSmartPointer<vtkUnsignedCharArray> CullMask;
   vtkSmartPointer<vtkDoubleArray> CutView;
+  // the cut arrays' bytes (a byte a node each), counted against the reader's CacheLimit
+  std::shared_ptr<std::atomic<uint64_t>> Held = std::make_shared<std::atomic<uint64_t>>(0);
   // The output between frames: the input's arrays, the three cut arrays and the cut's view. It
   // is made when the input changes; each frame writes the cut arrays and the view in place and
   // the output shallow-copies it (the pipeline clears the output before each execution). Made
@@ -291,7 +295,9 @@ int vtkPerceptualLODSelector::RequestData(
   this->Select(input, view, viewStamp, in, stats);
   this->MakeOutput(input, in, output);
   this->ExplainEmptyCut(in, stats);
-  input->EnforceResidentLimit(); // the pages this walk mapped, within the reader's CacheLimit
+  // the pages this walk mapped, and the cut arrays, within the reader's CacheLimit
+  input->CountHeldBytes(this->Internal->Held);
+  input->EnforceResidentLimit();
   this->SelectTime =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   this->RecordFigures(stats);
@@ -448,6 +454,7 @@ void vtkPerceptualLODSelector::Select(vtkMultiscaleOctree* input, const plod::Oc
     I.State = cutArray(vtkMultiscaleOctree::CutStateArrayName());
     I.Reason = cutArray(CutReasonArrayName());
     I.CullMask = cutArray(vtkMultiscaleOctree::CullMaskArrayName());
+    I.Held->store(3 * uint64_t(view.NumberOfNodes), std::memory_order_relaxed);
     I.ViewStamp = viewStamp;
     I.Prepared = nullptr;
   }

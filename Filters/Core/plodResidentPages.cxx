@@ -183,12 +183,13 @@ bool ResidentLimit::Enforce(std::string* why)
     return false;
   }
   // the mapping holds at most what the process's file pages grew by since the last count
-  if (this->Others >= 0 && before - this->Others <= int64_t(this->Limit))
+  const uint64_t allowed = this->GetAllowed();
+  if (this->Others >= 0 && before - this->Others <= int64_t(allowed))
     return true;
   if (!this->Count(false, why))
     return false;
   const uint64_t counted = this->LastCounted;
-  if (counted > this->Limit && !this->Count(true, why))
+  if (counted > allowed && !this->Count(true, why))
     return false;
   // the other pages as of `before`: the mapping, counted after it, can only have grown
   // meanwhile (a page loader reads beside the frame), so this errs low and the next exact count

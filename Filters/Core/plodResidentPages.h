@@ -34,6 +34,7 @@
 #define plodResidentPages_h
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -67,7 +68,7 @@ int64_t ProcessFileResidentBytes();
 
 /**
  * The limit on one read-only file mapping's resident pages. Attach() names the mapping, Enforce()
- * after each frame keeps it within Limit bytes (0: no limit).
+ * after each frame keeps it within Limit bytes (0: no limit), less what SetHeld() counts.
  *
  * Thread safety: Enforce(), Release(), Measure() and the figures may be called from
  * any thread, at once (a frame's thread and a page loader's); Attach() and SetLimit() only
@@ -79,6 +80,22 @@ public:
   void Attach(void* data, uint64_t bytes);
   void SetLimit(uint64_t bytes) { this->Limit = bytes; }
   uint64_t GetLimit() const { return this->Limit; }
+  /**
+   * Bytes of the process's own memory that count against the limit beside the mapping's pages
+   * (the arrays the filters keep for the octree, which grow with it): Enforce() keeps the
+   * mapping within the limit less these, and at least an eighth of the limit (a view needs its
+   * pages). Any thread, at any time.
+   */
+  void SetHeld(uint64_t bytes) { this->Held.store(bytes, std::memory_order_relaxed); }
+  uint64_t GetHeld() const { return this->Held.load(std::memory_order_relaxed); }
+  /// What Enforce() lets the mapping hold now (see SetHeld; 0: no limit).
+  uint64_t GetAllowed() const
+  {
+    const uint64_t held = this->GetHeld();
+    return this->Limit == 0
+      ? 0
+      : std::max(this->Limit / 8, this->Limit > held ? this->Limit - held : 0);
+  }
   /**
    * Drops the mapping's file pages from the process when they exceed the limit. Returns false,
    * with `why`, when the limit cannot be kept (no page map, no statm), at that call and every
@@ -109,6 +126,7 @@ private:
   void* Data = nullptr;
   uint64_t Bytes = 0;
   uint64_t Limit = 0;
+  std::atomic<uint64_t> Held{ 0 };
   // the process's file-backed resident bytes other than this mapping's, as of the last count
   int64_t Others = 0;
   uint64_t LastCounted = 0;

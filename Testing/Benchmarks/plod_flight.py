@@ -11,8 +11,8 @@ work and its waits on the disk).
 Per frame: milliseconds (select + patches), the major page faults taken during it (a fault the
 page cache could not serve: the frame waited on the disk), the process's resident memory and
 how much of it is the mapped octree (counted page by page after the frame, outside its time;
-the reader's CacheLimit bounds it: --cache-limit, 0 for none, the reader's default if not
-given), and how many times the limit dropped the mapped pages. With --background-loading
+the reader's CacheLimit bounds it, less the filters' own arrays, which count against it:
+--cache-limit, 0 for none, the reader's default if not given), and how many times the limit dropped the mapped pages. With --background-loading
 (the reader's BackgroundLoading), the pages of refinements are read by the octree's own thread:
 a frame's waits are then the process's major faults less that thread's, and the flight also
 prints the cells drawn coarser while their pages were read and the frames until the view was
@@ -213,7 +213,9 @@ def main():
           f'{sum(r["releases"] > p for r, p in zip(rows, [0] + [q["releases"] for q in rows]))}'
           f' frames')
     print(f'resident at the last frame: {file_mib:.0f} MiB of files (the mapped octree, the '
-          f'libraries), {anonymous_mib:.0f} MiB anonymous (the filters\' arrays, Python, VTK)')
+          f'libraries), {anonymous_mib:.0f} MiB anonymous (the filters\' arrays, Python, VTK); '
+          f'the filters\' arrays counted against the CacheLimit: '
+          f'{octree.GetHeldBytes() / 2 ** 20:.0f} MiB')
     if args.background_loading:
         coarser = [r for r in rest if r['awaiting'] > 0]
         print(f'background loading: {len(coarser)} frames drew cells awaiting their pages '

@@ -168,6 +168,57 @@ TEST(ResidentPages, LimitDropsPagesOnlyAboveIt)
   EXPECT_EQ(f.Touch(0, 4096), expected);
 }
 
+TEST(ResidentPages, HeldBytesCountAgainstTheLimit)
+{
+  // The filters' own arrays (SetHeld) share the limit with the mapping: the mapping is kept
+  // within the limit less them, and at least an eighth of the limit.
+  if (!PageMapReadable())
+    GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
+  MappedFile f(4096);
+  ASSERT_NE(f.Data, nullptr);
+  f.Measure(true);
+  plod::ResidentLimit limit;
+  limit.Attach(f.Data, f.Bytes);
+  f.Touch(0, 1024);
+  const uint64_t present = f.Measure().FileBytes;
+  ASSERT_GE(present, 1024 * f.Page);
+  ASSERT_LT(present, f.Bytes / 2);
+  std::string why;
+  // the limit twice what is present, half of it held: kept, exactly
+  limit.SetLimit(2 * present);
+  limit.SetHeld(present);
+  EXPECT_EQ(limit.GetHeld(), present);
+  EXPECT_EQ(limit.GetAllowed(), present);
+  EXPECT_TRUE(limit.Enforce(&why)) << why;
+  EXPECT_EQ(limit.GetReleases(), 0u);
+  EXPECT_EQ(f.Measure().FileBytes, present);
+  // a page more held: the mapping is over what is left, dropped
+  limit.SetHeld(present + f.Page);
+  EXPECT_EQ(limit.GetAllowed(), present - f.Page);
+  EXPECT_TRUE(limit.Enforce(&why)) << why;
+  EXPECT_EQ(limit.GetReleases(), 1u);
+  EXPECT_EQ(f.Measure().FileBytes, 0u);
+  // held beyond the limit: the mapping keeps an eighth of it (here what the quarter maps)
+  limit.SetLimit(8 * present);
+  limit.SetHeld(100 * present);
+  EXPECT_EQ(limit.GetAllowed(), present);
+  f.Touch(0, 1024);
+  ASSERT_EQ(f.Measure().FileBytes, present);
+  EXPECT_TRUE(limit.Enforce(&why)) << why;
+  EXPECT_EQ(limit.GetReleases(), 1u);
+  EXPECT_EQ(f.Measure().FileBytes, present);
+  f.Touch(0, 2048);
+  EXPECT_TRUE(limit.Enforce(&why)) << why;
+  EXPECT_EQ(limit.GetReleases(), 2u);
+  EXPECT_EQ(f.Measure().FileBytes, 0u);
+  // no limit: nothing held counts
+  limit.SetLimit(0);
+  EXPECT_EQ(limit.GetAllowed(), 0u);
+  f.Touch(0, 4096);
+  EXPECT_TRUE(limit.Enforce(&why)) << why;
+  EXPECT_EQ(limit.GetReleases(), 2u);
+}
+
 TEST(ResidentPages, NothingToKeepWithoutAMapping)
 {
   plod::ResidentLimit limit;
