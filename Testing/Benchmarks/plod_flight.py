@@ -47,6 +47,14 @@ def resident_mib():
         return int(f.read().split()[1]) * PAGE / 2 ** 20
 
 
+def held_mib(octree):
+    """The filters' arrays counted against the reader's CacheLimit (vtkMultiscaleOctree::
+    GetHeldBytes), or 'not counted' with a library from before they were."""
+    if not hasattr(octree, 'GetHeldBytes'):
+        return 'not counted'
+    return f'{octree.GetHeldBytes() / 2 ** 20:.0f} MiB'
+
+
 def resident_kinds_mib():
     """(file-backed, anonymous) resident MiB of this process (/proc/self/status): the mapped
     octree's pages against the arrays the filters allocate (and the interpreter's own)."""
@@ -214,8 +222,7 @@ def main():
           f' frames')
     print(f'resident at the last frame: {file_mib:.0f} MiB of files (the mapped octree, the '
           f'libraries), {anonymous_mib:.0f} MiB anonymous (the filters\' arrays, Python, VTK); '
-          f'the filters\' arrays counted against the CacheLimit: '
-          f'{octree.GetHeldBytes() / 2 ** 20:.0f} MiB')
+          f'the filters\' arrays counted against the CacheLimit: {held_mib(octree)}')
     if args.background_loading:
         coarser = [r for r in rest if r['awaiting'] > 0]
         print(f'background loading: {len(coarser)} frames drew cells awaiting their pages '
