@@ -75,6 +75,22 @@ bool PageMapReadable()
     std::fclose(f);
   return f != nullptr;
 }
+
+/// A mapped file of 4096 pages, none of them resident, and a limit attached to it (no limit
+/// set).
+struct LimitedFile
+{
+  MappedFile File{ 4096 };
+  plod::ResidentLimit Limit;
+  LimitedFile()
+  {
+    if (this->File.Data)
+    {
+      this->File.Measure(true);
+      this->Limit.Attach(this->File.Data, this->File.Bytes);
+    }
+  }
+};
 } // namespace
 
 TEST(ResidentPages, CountsAndDropsFilePagesKeepingEdits)
@@ -120,11 +136,10 @@ TEST(ResidentPages, LimitDropsPagesOnlyAboveIt)
   // cache): the limits are set from what is counted present, to the page.
   if (!PageMapReadable())
     GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
-  MappedFile f(4096);
+  LimitedFile limited;
+  MappedFile& f = limited.File;
+  plod::ResidentLimit& limit = limited.Limit;
   ASSERT_NE(f.Data, nullptr);
-  f.Measure(true);
-  plod::ResidentLimit limit;
-  limit.Attach(f.Data, f.Bytes);
   std::string why;
   // no limit: nothing dropped whatever is read
   f.Touch(0, 4096);
@@ -174,11 +189,10 @@ TEST(ResidentPages, HeldBytesCountAgainstTheLimit)
   // within the limit less them, and at least an eighth of the limit.
   if (!PageMapReadable())
     GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
-  MappedFile f(4096);
+  LimitedFile limited;
+  MappedFile& f = limited.File;
+  plod::ResidentLimit& limit = limited.Limit;
   ASSERT_NE(f.Data, nullptr);
-  f.Measure(true);
-  plod::ResidentLimit limit;
-  limit.Attach(f.Data, f.Bytes);
   f.Touch(0, 1024);
   const uint64_t present = f.Measure().FileBytes;
   ASSERT_GE(present, 1024 * f.Page);
