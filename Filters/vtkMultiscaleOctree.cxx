@@ -466,6 +466,11 @@ struct vtkMultiscaleOctree::SourceFileState
   bool WarnedResident = false;
   // the filters' counts of what they keep for the octree (CountHeldBytes)
   std::vector<std::weak_ptr<const std::atomic<uint64_t>>> Held;
+  // how many of the last executions dropped the pages (WarnIfDroppedMostFrames)
+  uint64_t Executions = 0;
+  uint64_t DroppingExecutions = 0;
+  uint64_t LastReleases = 0;
+  bool WarnedDropping = false;
   // background reads of the pages (SetBackgroundLoading), made at the first GetPageLoader()
   bool BackgroundLoading = false;
   std::unique_ptr<plod::PageLoader> Loader;
@@ -510,6 +515,36 @@ void vtkMultiscaleOctree::EnforceResidentLimit()
     this->SourceFile->WarnedResident = true;
     vtkWarningMacro(<< "The octree file's cache limit is not kept: " << why << ".");
   }
+  this->WarnIfDroppedMostFrames();
+}
+
+//------------------------------------------------------------------------------
+void vtkMultiscaleOctree::WarnIfDroppedMostFrames()
+{
+  // a limit below what the views read plus the arrays: the pages are dropped after most
+  // executions and every frame maps them again (once per file, judged over a window)
+  constexpr uint64_t Window = 64;
+  SourceFileState& file = *this->SourceFile;
+  const uint64_t releases = file.Resident.GetReleases();
+  file.DroppingExecutions += releases != file.LastReleases ? 1 : 0;
+  file.LastReleases = releases;
+  if (++file.Executions < Window)
+  {
+    return;
+  }
+  if (file.DroppingExecutions >= Window / 4 && !file.WarnedDropping)
+  {
+    file.WarnedDropping = true;
+    vtkWarningMacro(<< "The octree file's pages were dropped after " << file.DroppingExecutions
+                    << " of the last " << Window << " executions: the cache limit ("
+                    << (file.Resident.GetLimit() >> 20) << " MiB, of which "
+                    << (file.Resident.GetHeld() >> 20)
+                    << " MiB hold the filters' arrays) is below what the views read, so the "
+                       "frames map their pages again. Raise the reader's CacheLimit for faster "
+                       "frames.");
+  }
+  file.Executions = 0;
+  file.DroppingExecutions = 0;
 }
 
 //------------------------------------------------------------------------------

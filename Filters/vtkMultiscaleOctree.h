@@ -468,6 +468,12 @@ protected:
 #endif
 
 private:
+  /**
+   * Warns once per file when the pages were dropped after at least a quarter of the last 64
+   * EnforceResidentLimit() calls (the limit, less the filters' arrays, is below what the views
+   * read, so the frames map their pages again); called by EnforceResidentLimit().
+   */
+  void WarnIfDroppedMostFrames();
   vtkMultiscaleOctree(const vtkMultiscaleOctree&) = delete;
   void operator=(const vtkMultiscaleOctree&) = delete;
 };

@@ -1076,6 +1076,57 @@ TEST(MultiscaleOctreeFile, StanfordBunnyFileViewedWithinACacheLimitAndOffTheFram
   std::remove(path.c_str());
 }
 
+TEST(MultiscaleOctreeFile, ACacheLimitBelowWhatTheViewsReadIsReported)
+{
+  // A limit that every frame exceeds (the views read more than it leaves beside the filters'
+  // arrays) makes each frame map its pages again: after 40 frames the octree has warned once,
+  // saying how much of the limit the arrays hold and to raise it. A limit above the file never
+  // drops, and says nothing.
+  if (!PageMapReadable())
+    GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
+  auto octree = BuildOctree(160);
+  const std::string path = TempPath("smalllimit.plod");
+  ASSERT_TRUE(Write(octree, path));
+  const vtkIdType fileBytes = static_cast<vtkIdType>(ReadBytes(path).size());
+  const auto fly = [&](int limitMiB) {
+    vtkNew<vtkMultiscaleOctreeReader> reader;
+    reader->SetFileName(path.c_str());
+    reader->SetCacheLimit(limitMiB);
+    vtkNew<vtkPerceptualLODSelector> selector;
+    vtkNew<vtkMultiscalePatchGenerator> patches;
+    selector->SetInputConnection(reader->GetOutputPort());
+    patches->SetInputConnection(selector->GetOutputPort());
+    selector->SetViewportSize(1920, 1080);
+    selector->ScaleTolerances(0.25);
+    vtkNew<plodtest::ErrorRecorder> messages;
+    for (int k = 0; k < 40; ++k)
+    {
+      const double a = 0.6 * k, d = 1.6;
+      selector->SetEyePosition(d * std::sin(a), 0.3 * d, d * std::cos(a));
+      patches->Update();
+      if (k == 0)
+      {
+        reader->GetOutput()->AddObserver(vtkCommand::WarningEvent, messages);
+        selector->GetOutput()->AddObserver(vtkCommand::WarningEvent, messages);
+      }
+    }
+    EXPECT_TRUE(reader->GetMapped());
+    return std::make_pair(std::vector<std::string>(messages->Warnings),
+      reader->GetOutput()->GetNumberOfResidentReleases());
+  };
+  const auto small = fly(1);
+  EXPECT_GE(small.second, 30) << "a frame that does not drop the pages";
+  ASSERT_EQ(small.first.size(), 1u) << "one warning, once";
+  EXPECT_NE(small.first[0].find("Raise the reader's CacheLimit"), std::string::npos)
+    << small.first[0];
+  EXPECT_NE(small.first[0].find("cache limit (1 MiB, of which"), std::string::npos)
+    << small.first[0];
+  const auto large = fly(int(fileBytes >> 20) + 1);
+  EXPECT_EQ(large.second, 0);
+  EXPECT_TRUE(large.first.empty()) << large.first.front();
+  std::remove(path.c_str());
+}
+
 TEST(MultiscaleOctreeFile, CacheLimitKeepsTheMappedPagesWithinIt)
 {
   // A flight over a mapped file larger than the reader's CacheLimit: after every frame (the
