@@ -95,8 +95,8 @@ public:
    * vtkMultiscaleOctree::CountHeldBytes). The pages are kept within the limit less those
    * arrays, and at least an eighth of it. Default 2048. It should exceed what one view reads
    * plus the arrays, or every frame maps its pages again (a triangle budget bounds what a view
-   * reads); the octree warns once when most frames do. With BackgroundLoading, the loading thread keeps it too, after each refinement it
-   * reads.
+   * reads); the octree warns once when most frames do. With BackgroundLoading, the loading thread
+   * keeps it too, after each refinement it reads.
    */
   vtkSetClampMacro(CacheLimit, int, 0, VTK_INT_MAX);
   vtkGetMacro(CacheLimit, int);

@@ -77,14 +77,15 @@ bool PageMapReadable()
 }
 
 /// A mapped file of 4096 pages, none of them resident, and a limit attached to it (no limit
-/// set).
+/// set); not usable where the page map cannot be read or the file not mapped.
 struct LimitedFile
 {
   MappedFile File{ 4096 };
   plod::ResidentLimit Limit;
+  bool Usable() const { return this->File.Data && PageMapReadable(); }
   LimitedFile()
   {
-    if (this->File.Data)
+    if (this->Usable())
     {
       this->File.Measure(true);
       this->Limit.Attach(this->File.Data, this->File.Bytes);
@@ -134,12 +135,11 @@ TEST(ResidentPages, LimitDropsPagesOnlyAboveIt)
 {
   // How many pages one read maps depends on the kernel (fault-around, large folios of the page
   // cache): the limits are set from what is counted present, to the page.
-  if (!PageMapReadable())
-    GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
   LimitedFile limited;
+  if (!limited.Usable())
+    GTEST_SKIP() << "/proc/self/pagemap cannot be read here, or the file cannot be mapped";
   MappedFile& f = limited.File;
   plod::ResidentLimit& limit = limited.Limit;
-  ASSERT_NE(f.Data, nullptr);
   std::string why;
   // no limit: nothing dropped whatever is read
   f.Touch(0, 4096);
@@ -187,17 +187,16 @@ TEST(ResidentPages, HeldBytesCountAgainstTheLimit)
 {
   // The filters' own arrays (SetHeld) share the limit with the mapping: the mapping is kept
   // within the limit less them, and at least an eighth of the limit.
-  if (!PageMapReadable())
-    GTEST_SKIP() << "/proc/self/pagemap cannot be read here";
+  std::string why;
   LimitedFile limited;
+  if (!limited.Usable())
+    GTEST_SKIP() << "/proc/self/pagemap cannot be read here, or the file cannot be mapped";
   MappedFile& f = limited.File;
   plod::ResidentLimit& limit = limited.Limit;
-  ASSERT_NE(f.Data, nullptr);
   f.Touch(0, 1024);
   const uint64_t present = f.Measure().FileBytes;
   ASSERT_GE(present, 1024 * f.Page);
   ASSERT_LT(present, f.Bytes / 2);
-  std::string why;
   // the limit twice what is present, half of it held: kept, exactly
   limit.SetLimit(2 * present);
   limit.SetHeld(present);
