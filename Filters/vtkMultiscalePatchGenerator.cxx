@@ -34,8 +34,10 @@ struct vtkMultiscalePatchGenerator::Internals
   plod::PatchWorkspace Workspace;
   plod::PatchResult Result;
   std::vector<uint8_t> FullCut; // used when the input carries no cut
-  // what the workspace keeps per cluster, counted against the reader's CacheLimit
-  std::shared_ptr<std::atomic<uint64_t>> Held = std::make_shared<std::atomic<uint64_t>>(0);
+  // what the workspace keeps per cluster, counted against the reader's CacheLimit; a new count
+  // for each checked view, so that an octree drawn before stops counting it
+  std::shared_ptr<std::atomic<uint64_t>> Held;
+  vtkMTimeType HeldView = 0;
 };
 
 //------------------------------------------------------------------------------
@@ -268,9 +270,14 @@ int vtkMultiscalePatchGenerator::RequestData(
     AddInputPointIds(v, r, output);
   }
   // the pages read here, and the output index per cluster, within the reader's CacheLimit
-  this->Internal->Held->store(
-    this->Internal->Workspace.OutputOf.capacity() * sizeof(int32_t), std::memory_order_relaxed);
-  input->CountHeldBytes(this->Internal->Held);
+  Internals& I = *this->Internal;
+  if (!I.Held || I.HeldView != checked)
+  {
+    I.Held = std::make_shared<std::atomic<uint64_t>>(0);
+    I.HeldView = checked;
+  }
+  I.Held->store(I.Workspace.OutputOf.capacity() * sizeof(int32_t), std::memory_order_relaxed);
+  input->CountHeldBytes(I.Held);
   input->EnforceResidentLimit();
   timer->StopTimer();
   this->RecordFigures(r, timer->GetElapsedTime());

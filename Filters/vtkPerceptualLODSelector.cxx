@@ -61,8 +61,9 @@ struct vtkPerceptualLODSelector::Internals
   vtkSmartPointer<vtkUnsignedCharArray> Reason;
   vtkSmartPointer<vtkUnsignedCharArray> CullMask;
   vtkSmartPointer<vtkDoubleArray> CutView;
-  // the cut arrays' bytes (a byte a node each), counted against the reader's CacheLimit
-  std::shared_ptr<std::atomic<uint64_t>> Held = std::make_shared<std::atomic<uint64_t>>(0);
+  // the cut arrays' bytes (a byte a node each), counted against the reader's CacheLimit; made
+  // with the arrays
+  std::shared_ptr<std::atomic<uint64_t>> Held;
   // The output between frames: the input's arrays, the three cut arrays and the cut's view. It
   // is made when the input changes; each frame writes the cut arrays and the view in place and
   // the output shallow-copies it (the pipeline clears the output before each execution). Made
@@ -454,7 +455,8 @@ void vtkPerceptualLODSelector::Select(vtkMultiscaleOctree* input, const plod::Oc
     I.State = cutArray(vtkMultiscaleOctree::CutStateArrayName());
     I.Reason = cutArray(CutReasonArrayName());
     I.CullMask = cutArray(vtkMultiscaleOctree::CullMaskArrayName());
-    I.Held->store(3 * uint64_t(view.NumberOfNodes), std::memory_order_relaxed);
+    // a new count: an octree this selector drew before stops counting these arrays
+    I.Held = std::make_shared<std::atomic<uint64_t>>(3 * uint64_t(view.NumberOfNodes));
     I.ViewStamp = viewStamp;
     I.Prepared = nullptr;
   }

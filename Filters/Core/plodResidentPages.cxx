@@ -201,14 +201,12 @@ bool ResidentLimit::Enforce(std::string* why)
 
 uint64_t ResidentLimit::GetReleases() const
 {
-  const std::lock_guard<std::mutex> lock(this->Mutex);
-  return this->Releases;
+  return this->Releases.load(std::memory_order_relaxed);
 }
 
 uint64_t ResidentLimit::GetReleasedBytes() const
 {
-  const std::lock_guard<std::mutex> lock(this->Mutex);
-  return this->ReleasedBytes;
+  return this->ReleasedBytes.load(std::memory_order_relaxed);
 }
 
 uint64_t ResidentLimit::GetLastCountedBytes() const

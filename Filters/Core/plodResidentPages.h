@@ -102,7 +102,8 @@ public:
    * later one (it is not tried again). A call waits for one running in another thread.
    */
   bool Enforce(std::string* why);
-  /// How many times Enforce() dropped the pages, and how many bytes in all.
+  /// How many times Enforce() dropped the pages, and how many bytes in all (without waiting for
+  /// a count running in another thread: a frame reads them after each execution).
   uint64_t GetReleases() const;
   uint64_t GetReleasedBytes() const;
   /// Counts the attached mapping's pages now (MeasureMappingResidency, nothing dropped); false
@@ -122,7 +123,7 @@ private:
   /// Called under the lock.
   bool Count(bool release, std::string* why);
 
-  mutable std::mutex Mutex; // over everything below but the mapping and the limit
+  mutable std::mutex Mutex; // over everything below but the mapping, the limit and the atomics
   void* Data = nullptr;
   uint64_t Bytes = 0;
   uint64_t Limit = 0;
@@ -130,8 +131,8 @@ private:
   // the process's file-backed resident bytes other than this mapping's, as of the last count
   int64_t Others = 0;
   uint64_t LastCounted = 0;
-  uint64_t Releases = 0;
-  uint64_t ReleasedBytes = 0;
+  std::atomic<uint64_t> Releases{ 0 };
+  std::atomic<uint64_t> ReleasedBytes{ 0 };
   bool Broken = false;
   std::string WhyBroken;
 };

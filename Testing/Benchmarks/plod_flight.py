@@ -12,7 +12,8 @@ Per frame: milliseconds (select + patches), the major page faults taken during i
 page cache could not serve: the frame waited on the disk), the process's resident memory and
 how much of it is the mapped octree (counted page by page after the frame, outside its time;
 the reader's CacheLimit bounds it, less the filters' own arrays, which count against it:
---cache-limit, 0 for none, the reader's default if not given), and how many times the limit dropped the mapped pages. With --background-loading
+--cache-limit, 0 for none, the reader's default if not given), and how many times the limit
+dropped the mapped pages. With --background-loading
 (the reader's BackgroundLoading), the pages of refinements are read by the octree's own thread:
 a frame's waits are then the process's major faults less that thread's, and the flight also
 prints the cells drawn coarser while their pages were read and the frames until the view was
