@@ -2,6 +2,7 @@
 #include "vtkMultiscaleOctree.h"
 
 #include "plodCut.h"
+#include "plodLargeArrays.h"
 #include "plodOctree.h"
 #include "plodOctreeFile.h"
 #include "plodOctreeSchema.h"
@@ -243,6 +244,9 @@ void vtkMultiscaleOctree::AddSchemaArray(const plod::ArraySpec& spec, vtkIdType 
   a->SetName(spec.Name);
   a->SetNumberOfComponents(spec.Components);
   a->SetNumberOfTuples(tuples);
+  // written whole by the build or the decoder: huge pages where the kernel gives them
+  plod::AdviseHugePages(
+    a->GetVoidPointer(0), static_cast<size_t>(a->GetDataSize()) * size_t(a->GetDataTypeSize()));
   this->GetFieldDataOf(spec.Group)->AddArray(a);
   a->Delete();
 }

@@ -48,7 +48,8 @@ constexpr double ReadShare = 0.25;
 namespace
 {
 /// Triangles of the polygons and strips of a vtkPolyData, with the cell id of each.
-void CollectTriangles(vtkPolyData* pd, std::vector<int64_t>& tris, std::vector<vtkIdType>& cellOf)
+void CollectTriangles(
+  vtkPolyData* pd, plod::LargeVector<int64_t>& tris, plod::LargeVector<vtkIdType>& cellOf)
 {
   const vtkIdType base = pd->GetNumberOfVerts() + pd->GetNumberOfLines();
   vtkIdType cellId = base;
@@ -90,14 +91,14 @@ void CollectTriangles(vtkPolyData* pd, std::vector<int64_t>& tris, std::vector<v
 /// of a plod::BuildInput until the build ends, and how triangles map to cells.
 struct vtkMultiscaleOctreeBuilder::InputCopies
 {
-  std::vector<double> Points;
-  std::vector<int64_t> Triangles;        ///< split polygons and strips
-  std::vector<vtkIdType> CellOfTriangle; ///< the cell of each split triangle
-  vtkIdType FirstPolygonCell = 0;        ///< cell id of the first polygon (in-place triangles)
+  plod::LargeVector<double> Points;
+  plod::LargeVector<int64_t> Triangles;        ///< split polygons and strips
+  plod::LargeVector<vtkIdType> CellOfTriangle; ///< the cell of each split triangle
+  vtkIdType FirstPolygonCell = 0; ///< cell id of the first polygon (in-place triangles)
   bool TrianglesInPlace = false;
-  std::vector<float> Normals;
-  std::vector<double> Viewpoints;
-  std::vector<uint8_t> Ghosts;
+  plod::LargeVector<float> Normals;
+  plod::LargeVector<double> Viewpoints;
+  plod::LargeVector<uint8_t> Ghosts;
   std::vector<float> PointDiffuse, PointSpecular, TriangleDiffuse, TriangleSpecular;
   bool HasMaterial = false;
 };

@@ -14,7 +14,7 @@ namespace plod
 namespace build
 {
 
-void RadixSort(std::vector<Item>& items, int bits, const ParallelFor& pfor)
+void RadixSort(LargeVector<Item>& items, int bits, const ParallelFor& pfor)
 {
   const int64_t n = static_cast<int64_t>(items.size());
   if (bits <= 0 || n < 2)
@@ -26,8 +26,8 @@ void RadixSort(std::vector<Item>& items, int bits, const ParallelFor& pfor)
   const size_t buckets = size_t(1) << digit;
   const int64_t chunks = n < 65536 ? 1 : 16;
   const int64_t chunkSize = (n + chunks - 1) / chunks;
-  std::vector<Item> tmp(items.size());
-  std::vector<size_t> count(buckets * chunks);
+  LargeVector<Item> tmp(items.size());
+  LargeVector<size_t> count(buckets * chunks);
   for (int shift = 0; shift < bits; shift += digit)
   {
     std::fill(count.begin(), count.end(), 0);

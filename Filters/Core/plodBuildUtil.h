@@ -8,6 +8,7 @@
 #ifndef plodBuildUtil_h
 #define plodBuildUtil_h
 
+#include "plodLargeArrays.h"
 #include "plodOctreeBuilder.h"
 
 #include <algorithm>
@@ -35,15 +36,15 @@ struct Item
  * number of chunks: per-chunk histograms, one prefix sum over (digit, chunk), then each chunk
  * scatters its items. The result is the same for any number of threads.
  */
-void RadixSort(std::vector<Item>& items, int bits, const ParallelFor& pfor);
+void RadixSort(LargeVector<Item>& items, int bits, const ParallelFor& pfor);
 
 /// Runs `body(begin, end, out)` over fixed chunks and concatenates the per-chunk outputs in
 /// chunk order, so the result does not depend on the number of threads.
 template <typename T, typename Body>
-std::vector<T> ChunkedGather(int64_t n, int64_t chunk, const ParallelFor& pfor, Body body)
+LargeVector<T> ChunkedGather(int64_t n, int64_t chunk, const ParallelFor& pfor, Body body)
 {
   const int64_t chunks = (n + chunk - 1) / chunk;
-  std::vector<std::vector<T>> parts(static_cast<size_t>(chunks));
+  LargeVector<LargeVector<T>> parts(static_cast<size_t>(chunks));
   pfor(chunks, 1, [&](int64_t b, int64_t e) {
     for (int64_t c = b; c < e; ++c)
     {
@@ -55,12 +56,12 @@ std::vector<T> ChunkedGather(int64_t n, int64_t chunk, const ParallelFor& pfor, 
   {
     total += p.size();
   }
-  std::vector<T> all;
+  LargeVector<T> all;
   all.reserve(total);
   for (auto& p : parts)
   {
     all.insert(all.end(), p.begin(), p.end());
-    std::vector<T>().swap(p);
+    LargeVector<T>().swap(p);
   }
   return all;
 }

@@ -22,15 +22,15 @@ struct Cloud
 {
   int64_t NumberOfPoints = 0;
   uint32_t Cells = 1;
-  std::vector<double> U;         // 3 per point
-  std::vector<uint64_t> Key;     // finest cell of each point, sorted
-  std::vector<int64_t> Source;   // input index of each point
-  std::vector<float> Normal;     // 3 per point, unit (0 when unknown)
-  std::vector<uint64_t> CellKey; // occupied cells
-  std::vector<int64_t> CellStart;
+  LargeVector<double> U;         // 3 per point
+  LargeVector<uint64_t> Key;     // finest cell of each point, sorted
+  LargeVector<int64_t> Source;   // input index of each point
+  LargeVector<float> Normal;     // 3 per point, unit (0 when unknown)
+  LargeVector<uint64_t> CellKey; // occupied cells
+  LargeVector<int64_t> CellStart;
 };
 
-inline int64_t FindKey(const std::vector<uint64_t>& keys, uint64_t key)
+inline int64_t FindKey(const LargeVector<uint64_t>& keys, uint64_t key)
 {
   auto it = std::lower_bound(keys.begin(), keys.end(), key);
   return (it != keys.end() && *it == key) ? (it - keys.begin()) : -1;
@@ -162,9 +162,9 @@ struct Crossing
 };
 
 /// Signed distance at the corners of the occupied cells, and its sign changes.
-std::vector<Crossing> SignChanges(const Cloud& C, const ParallelFor& pfor, Reporter& report)
+LargeVector<Crossing> SignChanges(const Cloud& C, const ParallelFor& pfor, Reporter& report)
 {
-  std::vector<Item> corners;
+  LargeVector<Item> corners;
   corners.reserve(C.CellKey.size() * 8);
   for (uint64_t key : C.CellKey)
   {
@@ -185,7 +185,7 @@ std::vector<Crossing> SignChanges(const Cloud& C, const ParallelFor& pfor, Repor
     ++bits;
   }
   RadixSort(corners, 3 * bits, pfor);
-  std::vector<uint64_t> cornerKeys;
+  LargeVector<uint64_t> cornerKeys;
   for (const Item& it : corners)
   {
     if (cornerKeys.empty() || cornerKeys.back() != it.Key)
@@ -193,13 +193,13 @@ std::vector<Crossing> SignChanges(const Cloud& C, const ParallelFor& pfor, Repor
       cornerKeys.push_back(it.Key);
     }
   }
-  std::vector<Item>().swap(corners);
+  LargeVector<Item>().swap(corners);
   struct CornerValue
   {
     double F;
     int64_t Source; // -1: no point near this corner
   };
-  std::vector<CornerValue> values(cornerKeys.size());
+  LargeVector<CornerValue> values(cornerKeys.size());
   const int64_t nk = static_cast<int64_t>(cornerKeys.size());
   const bool ok = BlockedFor(
     nk, 1024, int64_t(1) << 18, pfor,
@@ -233,7 +233,7 @@ std::vector<Crossing> SignChanges(const Cloud& C, const ParallelFor& pfor, Repor
     return {};
   }
   return ChunkedGather<Crossing>(
-    nk, 4096, pfor, [&](int64_t b, int64_t e, std::vector<Crossing>& out) {
+    nk, 4096, pfor, [&](int64_t b, int64_t e, LargeVector<Crossing>& out) {
       for (int64_t i = b; i < e; ++i)
       {
         const CornerValue& v0 = values[i];
@@ -283,7 +283,7 @@ double Coordinate(const BuildInput& in, int64_t i, int a)
 /// The finite points' indices, and the root cube (the caller's, which must hold them, or one
 /// placed around them) into `out`. False with result.Error set.
 bool PlaceCloud(const BuildInput& in, const BuildParameters& params, CloudMesh& out,
-  BuildResult& result, std::vector<int64_t>& finite)
+  BuildResult& result, LargeVector<int64_t>& finite)
 {
   const int64_t np = in.NumberOfPoints;
   double lo[3], hi[3];
@@ -345,7 +345,7 @@ bool PlaceCloud(const BuildInput& in, const BuildParameters& params, CloudMesh& 
 /// level to contour at (the user's, or the cloud rule's from the occupied cells of every
 /// level) into out.Level. False with result.Error set.
 bool ChooseCloudLevel(const BuildInput& in, const BuildParameters& params, const ParallelFor& pfor,
-  const std::vector<int64_t>& finite, CloudMesh& out, BuildResult& result, std::vector<Item>& items)
+  const LargeVector<int64_t>& finite, CloudMesh& out, BuildResult& result, LargeVector<Item>& items)
 {
   const int64_t n = static_cast<int64_t>(finite.size());
   items.resize(n);
@@ -380,7 +380,7 @@ bool ChooseCloudLevel(const BuildInput& in, const BuildParameters& params, const
 
 /// The cloud in grid units of out.Level, in the order of `items`, with the input's normals
 /// where it has them (unit length; zero where missing or degenerate).
-void MakeCloud(const BuildInput& in, const CloudMesh& out, const std::vector<Item>& items, Cloud& C)
+void MakeCloud(const BuildInput& in, const CloudMesh& out, const LargeVector<Item>& items, Cloud& C)
 {
   const int64_t n = static_cast<int64_t>(items.size());
   C.NumberOfPoints = n;
@@ -457,10 +457,10 @@ bool OrientNormals(
 
 /// The vertex of each of the four cells around every crossing: `vertexOf[4 x + slot]` indexes
 /// `vertexKey`, the cells' Morton keys at the contour level, each cell once.
-void CellsAroundCrossings(const std::vector<Crossing>& crossings, int level,
-  const ParallelFor& pfor, std::vector<uint64_t>& vertexKey, std::vector<int64_t>& vertexOf)
+void CellsAroundCrossings(const LargeVector<Crossing>& crossings, int level,
+  const ParallelFor& pfor, LargeVector<uint64_t>& vertexKey, LargeVector<int64_t>& vertexOf)
 {
-  std::vector<Item> around(4 * crossings.size());
+  LargeVector<Item> around(4 * crossings.size());
   for (size_t x = 0; x < crossings.size(); ++x)
   {
     const Crossing& k = crossings[x];
@@ -492,13 +492,13 @@ void CellsAroundCrossings(const std::vector<Crossing>& crossings, int level,
 /// Each cell's vertex: the mean of its crossings, kept inside the cell so that the vertex gets
 /// its own leaf; its normal, the mean of the crossings' normals; its material range, from the
 /// crossings' source points (or the uniform material where none has one).
-void PlaceVertices(const BuildInput& in, const Cloud& C, const std::vector<Crossing>& crossings,
-  const std::vector<uint64_t>& vertexKey, const std::vector<int64_t>& vertexOf, CloudMesh& out)
+void PlaceVertices(const BuildInput& in, const Cloud& C, const LargeVector<Crossing>& crossings,
+  const LargeVector<uint64_t>& vertexKey, const LargeVector<int64_t>& vertexOf, CloudMesh& out)
 {
   const int64_t nv = static_cast<int64_t>(vertexKey.size());
   const double h = out.RootEdge / double(C.Cells);
-  std::vector<double> sum(3 * nv, 0.0), nsum(3 * nv, 0.0);
-  std::vector<int> count(nv, 0);
+  LargeVector<double> sum(3 * nv, 0.0), nsum(3 * nv, 0.0);
+  LargeVector<int> count(nv, 0);
   const bool material = in.PointDiffuse || in.PointSpecular; // clouds carry material per point only
   if (in.PointDiffuse)
   {
@@ -543,7 +543,7 @@ void PlaceVertices(const BuildInput& in, const Cloud& C, const std::vector<Cross
       }
     }
   }
-  auto fixRange = [](std::vector<float>& lo, std::vector<float>& hi, float uniform) {
+  auto fixRange = [](LargeVector<float>& lo, LargeVector<float>& hi, float uniform) {
     for (size_t v = 0; v < lo.size(); ++v)
     {
       if (lo[v] > hi[v])
@@ -576,7 +576,7 @@ void PlaceVertices(const BuildInput& in, const Cloud& C, const std::vector<Cross
 /// One quad per crossed edge, counter-clockwise about the crossing's outward direction, split
 /// along its shorter diagonal.
 void MakeQuads(
-  const std::vector<Crossing>& crossings, const std::vector<int64_t>& vertexOf, CloudMesh& out)
+  const LargeVector<Crossing>& crossings, const LargeVector<int64_t>& vertexOf, CloudMesh& out)
 {
   out.Triangles.reserve(6 * crossings.size());
   const int ring[4] = { 0, 1, 3, 2 }; // slots in turn: (+p+q), (-p+q), (-p-q), (+p-q)
@@ -618,15 +618,15 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
   Reporter& report, CloudMesh& out, BuildResult& result)
 {
   report.Phase("cloud scan", 0.0, 0.02);
-  std::vector<int64_t> finite;
+  LargeVector<int64_t> finite;
   if (!PlaceCloud(in, params, out, result, finite))
   {
     return false;
   }
   report.Phase("cloud level", 0.02, 0.06);
-  std::vector<Item> items;
+  LargeVector<Item> items;
   const bool placed = ChooseCloudLevel(in, params, pfor, finite, out, result, items);
-  std::vector<int64_t>().swap(finite);
+  LargeVector<int64_t>().swap(finite);
   if (!placed || !report(1.0))
   {
     return false;
@@ -634,13 +634,13 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
   report.Phase("cloud normals", 0.06, 0.2);
   Cloud C;
   MakeCloud(in, out, items, C);
-  std::vector<Item>().swap(items);
+  LargeVector<Item>().swap(items);
   if (!OrientNormals(in, out, pfor, report, C) || !report(1.0))
   {
     return false;
   }
   report.Phase("cloud distance", 0.2, 0.3);
-  const std::vector<Crossing> crossings = SignChanges(C, pfor, report);
+  const LargeVector<Crossing> crossings = SignChanges(C, pfor, report);
   if (report.Aborted())
   {
     return false;
@@ -654,8 +654,8 @@ bool MakeCloudMesh(const BuildInput& in, const BuildParameters& params, const Pa
   // one vertex per cell next to a sign change (the four cells around each crossed edge), one
   // quad per crossed edge
   report.Phase("cloud contour", 0.3, 0.35);
-  std::vector<uint64_t> vertexKey;
-  std::vector<int64_t> vertexOf;
+  LargeVector<uint64_t> vertexKey;
+  LargeVector<int64_t> vertexOf;
   CellsAroundCrossings(crossings, out.Level, pfor, vertexKey, vertexOf);
   PlaceVertices(in, C, crossings, vertexKey, vertexOf, out);
   MakeQuads(crossings, vertexOf, out);

@@ -35,11 +35,11 @@ namespace build
 /// A point cloud's contoured mesh, in world coordinates.
 struct CloudMesh
 {
-  std::vector<double> Points;     // 3 per vertex
-  std::vector<int64_t> Triangles; // 3 per triangle
-  std::vector<float> Normals;     // 3 per vertex
-  std::vector<int64_t> InputIds;  // -1 per vertex (contoured points are not input points)
-  std::vector<float> DiffuseMin, DiffuseMax, SpecularMin, SpecularMax; // per vertex, or empty
+  LargeVector<double> Points;     // 3 per vertex
+  LargeVector<int64_t> Triangles; // 3 per triangle
+  LargeVector<float> Normals;     // 3 per vertex
+  LargeVector<int64_t> InputIds;  // -1 per vertex (contoured points are not input points)
+  LargeVector<float> DiffuseMin, DiffuseMax, SpecularMin, SpecularMax; // per vertex, or empty
   double Origin[3] = { 0, 0, 0 };
   double RootEdge = 1;
   int Level = 0;

@@ -377,44 +377,44 @@ private:
   /// MakeEdges' steps.
   bool GroupEdgeUses();
   void AddBoundaryPlanes(
-    int32_t a, int32_t b, std::vector<std::pair<int32_t, Quadric>>& planes) const;
-  void KeepBoundaryPlanes(std::vector<std::pair<int32_t, Quadric>>& planes);
+    int32_t a, int32_t b, LargeVector<std::pair<int32_t, Quadric>>& planes) const;
+  void KeepBoundaryPlanes(LargeVector<std::pair<int32_t, Quadric>>& planes);
   bool NoteCoincidentPoints();
   bool FindPassingTriangles();
   bool ComputeCells();
   // the steps of ComputeCells
-  bool ComputeLeavesAndParents(std::vector<CellSums>& child);
-  bool ComputeUpperCells(std::vector<CellSums>& child);
+  bool ComputeLeavesAndParents(LargeVector<CellSums>& child);
+  bool ComputeUpperCells(LargeVector<CellSums>& child);
   /// A leaf's cluster sums (into `sums`), vertices, normals, cone and material ranges.
   void LeafCell(
-    int64_t leaf, std::vector<CellSums>& sums, std::vector<std::array<double, 3>>& normals);
+    int64_t leaf, LargeVector<CellSums>& sums, LargeVector<std::array<double, 3>>& normals);
   /// An inner cell at level l (index i in the level), its clusters' sums gathered from its
   /// children: its vertices, normals, cone and material ranges.
   void InnerCell(int64_t node, int l, int64_t i, CellSums* sums, int clusters,
-    std::vector<std::array<double, 3>>& normals);
+    LargeVector<std::array<double, 3>>& normals);
   /// A node's own quantities (vertex, thickness) and its clusters' vertices and normals from
   /// its clusters' sums; `total` receives their sum.
   void FinishNode(
     int64_t node, int level, uint64_t key, const CellSums* sums, int count, CellSums& total);
   void StoreCone(int64_t node, const double axis[3], double theta, const Range& d, const Range& sp);
   /// The passing triangles of `node` (FindPassingTriangles), and their normals and material.
-  std::pair<std::vector<std::pair<int32_t, int32_t>>::const_iterator,
-    std::vector<std::pair<int32_t, int32_t>>::const_iterator>
+  std::pair<LargeVector<std::pair<int32_t, int32_t>>::const_iterator,
+    LargeVector<std::pair<int32_t, int32_t>>::const_iterator>
   PassRange(int64_t node) const;
   void AddPassing(
-    int64_t node, std::vector<std::array<double, 3>>& normals, Range& d, Range& sp) const;
+    int64_t node, LargeVector<std::array<double, 3>>& normals, Range& d, Range& sp) const;
   /// The largest angle from `axis` to the normals.
-  static double Widest(const double axis[3], const std::vector<std::array<double, 3>>& normals);
+  static double Widest(const double axis[3], const LargeVector<std::array<double, 3>>& normals);
   bool ComputeShapeErrors();
   bool MakeClusters();
   /// MakeClusters' steps.
   struct ClusterLevels;
   bool EdgesDeepestFirst(
-    std::vector<std::pair<int32_t, int32_t>>& edges, std::vector<int64_t>& levelStart);
-  bool UniteLevelByLevel(const std::vector<std::pair<int32_t, int32_t>>& edges,
-    const std::vector<int64_t>& levelStart, std::vector<int64_t>& delta, ClusterLevels& levels);
+    LargeVector<std::pair<int32_t, int32_t>>& edges, LargeVector<int64_t>& levelStart);
+  bool UniteLevelByLevel(const LargeVector<std::pair<int32_t, int32_t>>& edges,
+    const LargeVector<int64_t>& levelStart, LargeVector<int64_t>& delta, ClusterLevels& levels);
   bool NumberClusters(const ClusterLevels& levels);
-  void MarkTopology(std::vector<int64_t>& delta);
+  void MarkTopology(LargeVector<int64_t>& delta);
   bool TightenCones();
   bool Finish();
 
@@ -509,14 +509,14 @@ private:
   }
   void Material(int64_t p, Range& d, Range& s) const;
   void TriangleMaterial(int64_t t, Range& d, Range& s) const;
-  void Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out) const;
+  void Descend(int64_t t, LargeVector<std::pair<int32_t, int32_t>>& out) const;
   /// Descend's two ways: the few finest cells of the triangle's box (false when there are more
   /// than 27), or a walk down from its holder. `p`: its corners, `lo`, `hi`: its box, `key`:
   /// its corners' leaf keys.
   bool RecordByFinestCells(int64_t t, const double p[3][3], const double lo[3], const double hi[3],
-    const uint64_t key[3], std::vector<std::pair<int32_t, int32_t>>& out) const;
+    const uint64_t key[3], LargeVector<std::pair<int32_t, int32_t>>& out) const;
   void RecordByDescent(int64_t t, const double p[3][3], const double lo[3], const double hi[3],
-    const uint64_t key[3], std::vector<std::pair<int32_t, int32_t>>& out) const;
+    const uint64_t key[3], LargeVector<std::pair<int32_t, int32_t>>& out) const;
   void PlaceVertex(const CellSums& s, uint64_t key, int level, float* out) const;
 
   const Source& S;
@@ -526,36 +526,36 @@ private:
   Reporter& Report;
   BuildResult& R;
 
-  std::vector<uint8_t> Keep; // per input triangle
-  std::vector<uint8_t> Used; // per input point
+  LargeVector<uint8_t> Keep; // per input triangle
+  LargeVector<uint8_t> Used; // per input point
   int64_t Kept = 0, UsedPoints = 0;
   double Lo[3] = { 0, 0, 0 }, Hi[3] = { 0, 0, 0 };
   double Origin[3] = { 0, 0, 0 };
   double Edge = 1;
   int L = 0;
-  std::vector<int64_t> Order;  // surface point -> input point
-  std::vector<uint64_t> Key21; // surface point -> Morton key at level 21
-  std::vector<int32_t> Rank;   // input point -> surface point, -1 when unused
+  LargeVector<int64_t> Order;  // surface point -> input point
+  LargeVector<uint64_t> Key21; // surface point -> Morton key at level 21
+  LargeVector<int32_t> Rank;   // input point -> surface point, -1 when unused
   int64_t Cells[MaxFinestLevel + 1] = {};
-  std::vector<std::vector<uint64_t>> Keys; // per level, sorted
-  std::vector<int64_t> Offset;             // first node of each level, then the total
+  LargeVector<LargeVector<uint64_t>> Keys; // per level, sorted
+  LargeVector<int64_t> Offset;             // first node of each level, then the total
   OctreeArrays Out;
   int64_t Nodes = 0, Points = 0, Tris = 0;
-  std::vector<int64_t> TriSource; // surface triangle -> input triangle (triangle material)
-  std::vector<int64_t> IncStart;  // incidence: the triangles of each point
-  std::vector<int32_t> Inc;
-  std::vector<std::pair<int32_t, int32_t>> Pass; // (node, triangle) meeting without a corner
-  std::vector<int64_t> EdgeStart; // unique edges: the higher ends of each point's edges
-  std::vector<int32_t> EdgeTo;    // sorted per point; repeated once per use
-  std::vector<std::pair<int32_t, Quadric>> BoundaryQuadric; // per point, sorted
-  std::vector<int64_t> ClusterOffset; // first cluster of each level, then the total
+  LargeVector<int64_t> TriSource; // surface triangle -> input triangle (triangle material)
+  LargeVector<int64_t> IncStart;  // incidence: the triangles of each point
+  LargeVector<int32_t> Inc;
+  LargeVector<std::pair<int32_t, int32_t>> Pass; // (node, triangle) meeting without a corner
+  LargeVector<int64_t> EdgeStart; // unique edges: the higher ends of each point's edges
+  LargeVector<int32_t> EdgeTo;    // sorted per point; repeated once per use
+  LargeVector<std::pair<int32_t, Quadric>> BoundaryQuadric; // per point, sorted
+  LargeVector<int64_t> ClusterOffset; // first cluster of each level, then the total
 };
 
 bool MeshBuild::Scan()
 {
   this->Report.Phase("scan", 0.0, 0.05);
   const int64_t np = this->S.NumberOfPoints, nt = this->S.NumberOfTriangles;
-  std::vector<uint8_t> finite(np);
+  LargeVector<uint8_t> finite(np);
   this->For(np, 65536, [&](int64_t b, int64_t e) {
     for (int64_t i = b; i < e; ++i)
     {
@@ -693,7 +693,7 @@ bool MeshBuild::SortPoints()
 {
   this->Report.Phase("sort points", 0.05, 0.15);
   const int64_t np = this->S.NumberOfPoints;
-  std::vector<Item> items;
+  LargeVector<Item> items;
   items.reserve(this->UsedPoints);
   const CellQuantizer grid(this->Origin, this->Edge);
   for (int64_t i = 0; i < np; ++i)
@@ -703,7 +703,7 @@ bool MeshBuild::SortPoints()
       items.push_back({ grid.Key(this->S.X(i, 0), this->S.X(i, 1), this->S.X(i, 2)), uint64_t(i) });
     }
   }
-  std::vector<uint8_t>().swap(this->Used);
+  LargeVector<uint8_t>().swap(this->Used);
   if (!this->Report(0.2))
   {
     return false;
@@ -802,7 +802,7 @@ bool MeshBuild::MakeTree()
   this->Report.Phase("tree", 0.15, 0.2);
   const int L = this->L;
   this->Keys.assign(L + 1, {});
-  std::vector<int64_t> leafStart;
+  LargeVector<int64_t> leafStart;
   const int shift = 3 * (MaxFinestLevel - L);
   for (int64_t r = 0; r < this->Points; ++r)
   {
@@ -813,7 +813,7 @@ bool MeshBuild::MakeTree()
       leafStart.push_back(r);
     }
   }
-  std::vector<uint64_t>().swap(this->Key21);
+  LargeVector<uint64_t>().swap(this->Key21);
   for (int l = L - 1; l >= 0; --l)
   {
     for (uint64_t k : this->Keys[l + 1])
@@ -927,7 +927,7 @@ bool MeshBuild::StoreSurface()
   }
   // owner of each triangle: the deepest of the three pairwise common ancestors of its corners
   const int64_t nt = this->S.NumberOfTriangles;
-  std::vector<int32_t> owner(nt, -1);
+  LargeVector<int32_t> owner(nt, -1);
   const bool ok = BlockedFor(
     nt, 16384, Block, this->For,
     [&](int64_t b, int64_t e) {
@@ -1008,8 +1008,8 @@ bool MeshBuild::StoreSurface()
     o.FirstTriangle[n] = o.FirstTriangle[n - 1];
   }
   o.FirstTriangle[0] = 0;
-  std::vector<int32_t>().swap(this->Rank);
-  std::vector<uint8_t>().swap(this->Keep);
+  LargeVector<int32_t>().swap(this->Rank);
+  LargeVector<uint8_t>().swap(this->Keep);
   return this->Report(1.0);
 }
 
@@ -1031,7 +1031,7 @@ bool MeshBuild::MakeIncidence()
     this->IncStart[p + 1] += this->IncStart[p];
   }
   this->Inc.resize(3 * this->Tris);
-  std::vector<int64_t> cursor(this->IncStart.begin(), this->IncStart.end() - 1);
+  LargeVector<int64_t> cursor(this->IncStart.begin(), this->IncStart.end() - 1);
   for (int64_t t = 0; t < this->Tris; ++t)
   {
     if (!this->Tick(t, this->Tris, 0.5, 1.0))
@@ -1119,13 +1119,13 @@ bool MeshBuild::MakeEdges()
   {
     return false;
   }
-  std::vector<int64_t>& start = this->EdgeStart;
-  std::vector<int32_t>& to = this->EdgeTo;
+  LargeVector<int64_t>& start = this->EdgeStart;
+  LargeVector<int32_t>& to = this->EdgeTo;
   // uses of each edge: once on the boundary, twice inside a manifold. A boundary edge adds to
   // the cells of its two ends the plane through it perpendicular to its triangle, so that
   // representatives stay on an open surface's rim; their leaves are flagged.
   std::fill(o.Flags, o.Flags + this->Nodes, 0);
-  std::vector<std::pair<int32_t, Quadric>> planes;
+  LargeVector<std::pair<int32_t, Quadric>> planes;
   for (int64_t p = 0; p < this->Points; ++p)
   {
     if (!this->Tick(p, this->Points, 0.5, 0.9))
@@ -1173,8 +1173,8 @@ bool MeshBuild::MakeEdges()
 bool MeshBuild::GroupEdgeUses()
 {
   const OctreeArrays& o = this->Out;
-  std::vector<int64_t>& start = this->EdgeStart;
-  std::vector<int32_t>& to = this->EdgeTo;
+  LargeVector<int64_t>& start = this->EdgeStart;
+  LargeVector<int32_t>& to = this->EdgeTo;
   start.assign(this->Points + 1, 0);
   for (int64_t t = 0; t < this->Tris; ++t)
   {
@@ -1193,7 +1193,7 @@ bool MeshBuild::GroupEdgeUses()
     start[p + 1] += start[p];
   }
   to.resize(3 * this->Tris);
-  std::vector<int64_t> cursor(start.begin(), start.end() - 1);
+  LargeVector<int64_t> cursor(start.begin(), start.end() - 1);
   for (int64_t t = 0; t < this->Tris; ++t)
   {
     if (!this->Tick(t, this->Tris, 0.2, 0.4))
@@ -1222,7 +1222,7 @@ bool MeshBuild::GroupEdgeUses()
 /// whichever end has fewer, the one holding the other end (a hub of d boundary spokes then
 /// costs d, not d^2). A degenerate triangle or edge adds nothing.
 void MeshBuild::AddBoundaryPlanes(
-  int32_t a, int32_t b, std::vector<std::pair<int32_t, Quadric>>& planes) const
+  int32_t a, int32_t b, LargeVector<std::pair<int32_t, Quadric>>& planes) const
 {
   const OctreeArrays& o = this->Out;
   int64_t tri = -1;
@@ -1260,7 +1260,7 @@ void MeshBuild::AddBoundaryPlanes(
 }
 
 /// The boundary planes summed per point, in point order (BoundaryQuadric).
-void MeshBuild::KeepBoundaryPlanes(std::vector<std::pair<int32_t, Quadric>>& planes)
+void MeshBuild::KeepBoundaryPlanes(LargeVector<std::pair<int32_t, Quadric>>& planes)
 {
   std::stable_sort(planes.begin(), planes.end(),
     [](const std::pair<int32_t, Quadric>& x, const std::pair<int32_t, Quadric>& y) {
@@ -1285,7 +1285,7 @@ bool MeshBuild::NoteCoincidentPoints()
   // the default level), sorting the leaves that hold many
   const OctreeArrays& o = this->Out;
   const int64_t first = this->Offset[this->L], last = this->Nodes;
-  std::vector<std::array<float, 3>> many;
+  LargeVector<std::array<float, 3>> many;
   int64_t coincident = 0;
   for (int64_t leaf = first; leaf < last; ++leaf)
   {
@@ -1329,7 +1329,7 @@ bool MeshBuild::NoteCoincidentPoints()
   return this->Report(1.0);
 }
 
-void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out) const
+void MeshBuild::Descend(int64_t t, LargeVector<std::pair<int32_t, int32_t>>& out) const
 {
   const int32_t* c = &this->Out.Triangles[3 * t];
   const int32_t leaf[3] = { this->Out.PointLeaf[c[0]], this->Out.PointLeaf[c[1]],
@@ -1362,7 +1362,7 @@ void MeshBuild::Descend(int64_t t, std::vector<std::pair<int32_t, int32_t>>& out
 }
 
 bool MeshBuild::RecordByFinestCells(int64_t t, const double p[3][3], const double lo[3],
-  const double hi[3], const uint64_t key[3], std::vector<std::pair<int32_t, int32_t>>& out) const
+  const double hi[3], const uint64_t key[3], LargeVector<std::pair<int32_t, int32_t>>& out) const
 {
   // the usual case, a triangle about a cell across: test the few finest cells of its bounding
   // box; a cell it meets without a corner records the triangle at its deepest existing
@@ -1418,7 +1418,7 @@ bool MeshBuild::RecordByFinestCells(int64_t t, const double p[3][3], const doubl
 /// A walk down from the triangle's holder: a cell it meets without a corner records it at the
 /// cell's node, or at the node where the cell has no child.
 void MeshBuild::RecordByDescent(int64_t t, const double p[3][3], const double lo[3],
-  const double hi[3], const uint64_t key[3], std::vector<std::pair<int32_t, int32_t>>& out) const
+  const double hi[3], const uint64_t key[3], LargeVector<std::pair<int32_t, int32_t>>& out) const
 {
   const TriangleBoxTester tester(p[0], p[1], p[2]);
   int32_t stack[8 * (MaxFinestLevel + 1)];
@@ -1484,7 +1484,7 @@ bool MeshBuild::FindPassingTriangles()
   {
     const int64_t end = std::min(this->Tris, start + Block);
     auto part = ChunkedGather<std::pair<int32_t, int32_t>>(end - start, 4096, this->For,
-      [&](int64_t b, int64_t e, std::vector<std::pair<int32_t, int32_t>>& out) {
+      [&](int64_t b, int64_t e, LargeVector<std::pair<int32_t, int32_t>>& out) {
         for (int64_t t = start + b; t < start + e; ++t)
         {
           this->Descend(t, out);
@@ -1560,15 +1560,15 @@ void MeshBuild::PlaceVertex(const CellSums& s, uint64_t key, int level, float* o
 /// parent cluster's level-local id, and each node's first cluster.
 struct MeshBuild::ClusterLevels
 {
-  std::vector<std::vector<int32_t>> RepPoint, ParentLocal;
-  std::vector<int32_t> FirstLocal;
+  LargeVector<LargeVector<int32_t>> RepPoint, ParentLocal;
+  LargeVector<int32_t> FirstLocal;
 };
 
 bool MeshBuild::MakeClusters()
 {
   this->Report.Phase("clusters", 0.45, 0.55);
   // per node, F + U - E of the triangles, edges and unions whose lowest common node it is
-  std::vector<int64_t> delta(this->Nodes, 0);
+  LargeVector<int64_t> delta(this->Nodes, 0);
   for (int64_t t = 0; t < this->Tris; ++t)
   {
     if (!this->Tick(t, this->Tris, 0.0, 0.1))
@@ -1577,8 +1577,8 @@ bool MeshBuild::MakeClusters()
     }
     ++delta[this->Holder(t)];
   }
-  std::vector<std::pair<int32_t, int32_t>> edges;
-  std::vector<int64_t> levelStart;
+  LargeVector<std::pair<int32_t, int32_t>> edges;
+  LargeVector<int64_t> levelStart;
   ClusterLevels levels;
   if (!this->EdgesDeepestFirst(edges, levelStart) ||
     !this->UniteLevelByLevel(edges, levelStart, delta, levels) || !this->NumberClusters(levels))
@@ -1593,13 +1593,13 @@ bool MeshBuild::MakeClusters()
 /// common node, deepest first, so that unions inside a cell happen before those of its parent:
 /// level l's are [levelStart[L - l], levelStart[L - l + 1]).
 bool MeshBuild::EdgesDeepestFirst(
-  std::vector<std::pair<int32_t, int32_t>>& edges, std::vector<int64_t>& levelStart)
+  LargeVector<std::pair<int32_t, int32_t>>& edges, LargeVector<int64_t>& levelStart)
 {
   const int L = this->L;
-  std::vector<int64_t>& start = this->EdgeStart;
-  std::vector<int32_t>& to = this->EdgeTo;
-  std::vector<int64_t> perLevel(L + 1, 0);
-  std::vector<uint8_t> level(to.size(), 255);
+  LargeVector<int64_t>& start = this->EdgeStart;
+  LargeVector<int32_t>& to = this->EdgeTo;
+  LargeVector<int64_t> perLevel(L + 1, 0);
+  LargeVector<uint8_t> level(to.size(), 255);
   this->For(this->Points, 4096, [&](int64_t b, int64_t e) {
     for (int64_t p = b; p < e; ++p)
     {
@@ -1631,7 +1631,7 @@ bool MeshBuild::EdgesDeepestFirst(
     levelStart[L - l + 1] = levelStart[L - l] + perLevel[l];
   }
   edges.resize(levelStart[L + 1]);
-  std::vector<int64_t> cursor(levelStart.begin(), levelStart.end() - 1);
+  LargeVector<int64_t> cursor(levelStart.begin(), levelStart.end() - 1);
   for (int64_t p = 0; p < this->Points; ++p)
   {
     for (int64_t i = start[p]; i < start[p + 1]; ++i)
@@ -1642,8 +1642,8 @@ bool MeshBuild::EdgesDeepestFirst(
       }
     }
   }
-  std::vector<int64_t>().swap(start);
-  std::vector<int32_t>().swap(to);
+  LargeVector<int64_t>().swap(start);
+  LargeVector<int32_t>().swap(to);
   return this->Report(0.4);
 }
 
@@ -1654,12 +1654,12 @@ bool MeshBuild::EdgesDeepestFirst(
  * clusters are numbered from their points (PointCluster, level-local for now), each inner
  * node's from its children's.
  */
-bool MeshBuild::UniteLevelByLevel(const std::vector<std::pair<int32_t, int32_t>>& edges,
-  const std::vector<int64_t>& levelStart, std::vector<int64_t>& delta, ClusterLevels& levels)
+bool MeshBuild::UniteLevelByLevel(const LargeVector<std::pair<int32_t, int32_t>>& edges,
+  const LargeVector<int64_t>& levelStart, LargeVector<int64_t>& delta, ClusterLevels& levels)
 {
   OctreeArrays& o = this->Out;
   const int L = this->L;
-  std::vector<int32_t> root(this->Points);
+  LargeVector<int32_t> root(this->Points);
   std::iota(root.begin(), root.end(), 0);
   auto find = [&root](int32_t x) {
     while (root[x] != x)
@@ -1685,14 +1685,14 @@ bool MeshBuild::UniteLevelByLevel(const std::vector<std::pair<int32_t, int32_t>>
       }
     }
   };
-  std::vector<std::vector<int32_t>>& repPoint = levels.RepPoint;
-  std::vector<std::vector<int32_t>>& parentLocal = levels.ParentLocal;
-  std::vector<int32_t>& firstLocal = levels.FirstLocal;
+  LargeVector<LargeVector<int32_t>>& repPoint = levels.RepPoint;
+  LargeVector<LargeVector<int32_t>>& parentLocal = levels.ParentLocal;
+  LargeVector<int32_t>& firstLocal = levels.FirstLocal;
   repPoint.assign(L + 1, {});
   parentLocal.assign(L + 1, {});
   firstLocal.assign(this->Nodes, 0);
-  std::vector<int32_t> tag(this->Points, -1);
-  std::vector<int32_t> touched;
+  LargeVector<int32_t> tag(this->Points, -1);
+  LargeVector<int32_t> touched;
   unite(L);
   if (stopped)
   {
@@ -1807,7 +1807,7 @@ bool MeshBuild::NumberClusters(const ClusterLevels& levels)
 
 /// Topology: a node's sub-mesh is a union of discs when V - E + F equals its number of
 /// components, that is when the sum of `delta` over its subtree is 0 (NodeTopologySafe).
-void MeshBuild::MarkTopology(std::vector<int64_t>& delta)
+void MeshBuild::MarkTopology(LargeVector<int64_t>& delta)
 {
   OctreeArrays& o = this->Out;
   for (int64_t n = this->Nodes - 1; n > 0; --n)
@@ -1824,8 +1824,8 @@ void MeshBuild::MarkTopology(std::vector<int64_t>& delta)
   this->R.NumberOfUnsafeNodes = unsafe;
 }
 
-std::pair<std::vector<std::pair<int32_t, int32_t>>::const_iterator,
-  std::vector<std::pair<int32_t, int32_t>>::const_iterator>
+std::pair<LargeVector<std::pair<int32_t, int32_t>>::const_iterator,
+  LargeVector<std::pair<int32_t, int32_t>>::const_iterator>
 MeshBuild::PassRange(int64_t node) const
 {
   auto lo = std::lower_bound(this->Pass.begin(), this->Pass.end(),
@@ -1839,7 +1839,7 @@ MeshBuild::PassRange(int64_t node) const
 }
 
 void MeshBuild::AddPassing(
-  int64_t node, std::vector<std::array<double, 3>>& normals, Range& d, Range& sp) const
+  int64_t node, LargeVector<std::array<double, 3>>& normals, Range& d, Range& sp) const
 {
   // the triangles that pass through a node without a corner in it: they widen its cone and
   // its material range; they do not weigh in its axis (they would be counted again in every
@@ -1860,7 +1860,7 @@ void MeshBuild::AddPassing(
   }
 }
 
-double MeshBuild::Widest(const double axis[3], const std::vector<std::array<double, 3>>& normals)
+double MeshBuild::Widest(const double axis[3], const LargeVector<std::array<double, 3>>& normals)
 {
   // the smallest dot product picks the normal, one accurate angle is computed from it
   const std::array<double, 3>* far = nullptr;
@@ -1915,7 +1915,7 @@ void MeshBuild::StoreCone(
 }
 
 void MeshBuild::LeafCell(
-  int64_t leaf, std::vector<CellSums>& sums, std::vector<std::array<double, 3>>& normals)
+  int64_t leaf, LargeVector<CellSums>& sums, LargeVector<std::array<double, 3>>& normals)
 {
   // its points and the triangles at them; `sums` receives the leaf's cluster sums
   OctreeArrays& o = this->Out;
@@ -1980,7 +1980,7 @@ void MeshBuild::LeafCell(
 }
 
 void MeshBuild::InnerCell(int64_t node, int l, int64_t i, CellSums* sums, int clusters,
-  std::vector<std::array<double, 3>>& normals)
+  LargeVector<std::array<double, 3>>& normals)
 {
   // its clusters' sums already gathered from its children
   OctreeArrays& o = this->Out;
@@ -2012,7 +2012,7 @@ void MeshBuild::InnerCell(int64_t node, int l, int64_t i, CellSums* sums, int cl
   this->StoreCone(node, axis, theta, d, sp);
 }
 
-bool MeshBuild::ComputeLeavesAndParents(std::vector<CellSums>& child)
+bool MeshBuild::ComputeLeavesAndParents(LargeVector<CellSums>& child)
 {
   // each parent sums its leaves' clusters as they are made, so that the leaves' sums (240
   // bytes per cluster, the most numerous) are never all held at once; the order of the sums
@@ -2025,8 +2025,8 @@ bool MeshBuild::ComputeLeavesAndParents(std::vector<CellSums>& child)
   return BlockedFor(
     count, 256, Block / 16, this->For,
     [&](int64_t b, int64_t e) {
-      std::vector<std::array<double, 3>> normals;
-      std::vector<CellSums> leafSums;
+      LargeVector<std::array<double, 3>> normals;
+      LargeVector<CellSums> leafSums;
       for (int64_t i = b; i < e; ++i)
       {
         const int64_t node = base + i;
@@ -2050,7 +2050,7 @@ bool MeshBuild::ComputeLeavesAndParents(std::vector<CellSums>& child)
     [&](double f) { return this->Report(0.7 * f); });
 }
 
-bool MeshBuild::ComputeUpperCells(std::vector<CellSums>& child)
+bool MeshBuild::ComputeUpperCells(LargeVector<CellSums>& child)
 {
   // each level from its children's clusters (`child`: those of level l + 1)
   OctreeArrays& o = this->Out;
@@ -2061,9 +2061,9 @@ bool MeshBuild::ComputeUpperCells(std::vector<CellSums>& child)
     const int64_t clusterBase = this->ClusterOffset[l];
     const int64_t childClusterBase = this->ClusterOffset[l + 1];
     const int64_t childClusterEnd = this->ClusterOffset[l + 2];
-    std::vector<CellSums> parent(this->ClusterOffset[l + 1] - clusterBase);
+    LargeVector<CellSums> parent(this->ClusterOffset[l + 1] - clusterBase);
     this->For(count, 256, [&](int64_t b, int64_t e) {
-      std::vector<std::array<double, 3>> normals;
+      LargeVector<std::array<double, 3>> normals;
       for (int64_t i = b; i < e; ++i)
       {
         const int64_t node = base + i;
@@ -2098,25 +2098,25 @@ bool MeshBuild::ComputeCells()
   if (this->L == 0)
   {
     // the root is the only leaf
-    std::vector<CellSums> sums;
-    std::vector<std::array<double, 3>> normals;
+    LargeVector<CellSums> sums;
+    LargeVector<std::array<double, 3>> normals;
     this->LeafCell(0, sums, normals);
-    std::vector<std::pair<int32_t, Quadric>>().swap(this->BoundaryQuadric);
-    std::vector<int64_t>().swap(this->TriSource);
+    LargeVector<std::pair<int32_t, Quadric>>().swap(this->BoundaryQuadric);
+    LargeVector<int64_t>().swap(this->TriSource);
     return this->Report(1.0);
   }
   // the leaves with their parents, then each coarser level from the one below
-  std::vector<CellSums> child;
+  LargeVector<CellSums> child;
   if (!this->ComputeLeavesAndParents(child))
   {
     return false;
   }
-  std::vector<std::pair<int32_t, Quadric>>().swap(this->BoundaryQuadric);
+  LargeVector<std::pair<int32_t, Quadric>>().swap(this->BoundaryQuadric);
   if (!this->ComputeUpperCells(child))
   {
     return false;
   }
-  std::vector<int64_t>().swap(this->TriSource);
+  LargeVector<int64_t>().swap(this->TriSource);
   return true;
 }
 
@@ -2126,7 +2126,7 @@ bool MeshBuild::TightenCones()
   OctreeArrays& o = this->Out;
   const int L = this->L;
   // unit normals of the triangles (zero for degenerate ones)
-  std::vector<float> normal(3 * this->Tris);
+  LargeVector<float> normal(3 * this->Tris);
   this->For(this->Tris, 16384, [&](int64_t b, int64_t e) {
     for (int64_t t = b; t < e; ++t)
     {
@@ -2143,8 +2143,8 @@ bool MeshBuild::TightenCones()
   // axis to the normal of a triangle that meets it: at its points, or passing through it (then
   // recorded at it or at a descendant). Every normal stays inside; the angle is the least that
   // holds them.
-  std::vector<double> minDot(this->Nodes, 2.0);
-  std::vector<int32_t> widest(this->Nodes, -1); // the triangle reaching it
+  LargeVector<double> minDot(this->Nodes, 2.0);
+  LargeVector<int32_t> widest(this->Nodes, -1); // the triangle reaching it
   auto consider = [&](int64_t node, int32_t t) {
     const float* n = &normal[3 * t];
     if (n[0] == 0 && n[1] == 0 && n[2] == 0)
@@ -2202,9 +2202,9 @@ bool MeshBuild::TightenCones()
     o.ConeAngle[n] = std::min(o.ConeAngle[n], static_cast<float>(AngleBetween(axis, far)));
     assert(o.ConeAngle[n] >= 0 && o.ConeAngle[n] <= float(Pi));
   }
-  std::vector<int64_t>().swap(this->IncStart);
-  std::vector<int32_t>().swap(this->Inc);
-  std::vector<std::pair<int32_t, int32_t>>().swap(this->Pass);
+  LargeVector<int64_t>().swap(this->IncStart);
+  LargeVector<int32_t>().swap(this->Inc);
+  LargeVector<std::pair<int32_t, int32_t>>().swap(this->Pass);
   return this->Report(1.0);
 }
 
@@ -2216,7 +2216,7 @@ bool MeshBuild::ComputeShapeErrors()
   // SRCC eq. (3), per cluster: the spread along its normal of its points, relative to its
   // vertex; a cell's shape error is the largest of its clusters' (each collapses on its own).
   // `current` follows each point's cluster up the levels.
-  std::vector<int32_t> current(o.PointCluster, o.PointCluster + this->Points);
+  LargeVector<int32_t> current(o.PointCluster, o.PointCluster + this->Points);
   for (int l = L; l >= 0; --l)
   {
     if (l < L)
@@ -2228,7 +2228,7 @@ bool MeshBuild::ComputeShapeErrors()
     }
     const int64_t base = this->Offset[l], count = this->Offset[l + 1] - base;
     this->For(count, 64, [&](int64_t b, int64_t e) {
-      std::vector<double> lo, hi;
+      LargeVector<double> lo, hi;
       for (int64_t i = b; i < e; ++i)
       {
         const int64_t n = base + i;

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 /**
  * @file plodOctreeStorage.h
- * @brief VTK-free storage of an octree in std::vectors: the Allocator plod::BuildOctree fills
- * when no VTK data object receives the octree (tests, fuzzers and programs that use the kernels
- * alone), and the OctreeView of what was built.
+ * @brief VTK-free storage of an octree in vectors (LargeVector: huge pages where the kernel has
+ * them): the Allocator plod::BuildOctree fills when no VTK data object receives the octree (tests,
+ * fuzzers and programs that use the kernels alone), and the OctreeView of what was built.
  *
  * @code
  * plod::OctreeStorage storage;
@@ -14,6 +14,7 @@
 #ifndef plodOctreeStorage_h
 #define plodOctreeStorage_h
 
+#include "plodLargeArrays.h"
 #include "plodOctree.h"
 #include "plodOctreeBuilder.h"
 
@@ -29,7 +30,7 @@ namespace plod
 struct OctreeStorage
 {
   // one vector per array of plodOctreeSchema.h (PointGhost empty without ghosts)
-#define PLOD_STORAGE_MEMBER(member, group, type, comps, meaning) std::vector<type> member;
+#define PLOD_STORAGE_MEMBER(member, group, type, comps, meaning) LargeVector<type> member;
   PLOD_OCTREE_ALL_ARRAYS(PLOD_STORAGE_MEMBER)
 #undef PLOD_STORAGE_MEMBER
   int64_t Nodes = -1, NumberOfPoints = -1, NumberOfTriangles = -1, Clusters = -1;
@@ -114,7 +115,7 @@ private:
   }
 
   template <typename T>
-  void Make(std::vector<T>& v, int64_t n)
+  void Make(LargeVector<T>& v, int64_t n)
   {
     T value;
     std::memset(&value, this->Fill, sizeof value);

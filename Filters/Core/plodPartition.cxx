@@ -95,8 +95,8 @@ bool BoxMeets(const Box& box, const uint8_t* mask)
 }
 
 //------------------------------------------------------------------------------
-void MergePoints(const std::vector<double>& points, const std::vector<double>& normals,
-  std::vector<int64_t>& triangles, const CellGrid& cells, const std::vector<int>& owner, int rank,
+void MergePoints(const LargeVector<double>& points, const LargeVector<double>& normals,
+  LargeVector<int64_t>& triangles, const CellGrid& cells, const std::vector<int>& owner, int rank,
   PartitionResult* r)
 {
   // each point's position on the grid of RootEdge / 2^32, sorted with its position and index
@@ -107,7 +107,7 @@ void MergePoints(const std::vector<double>& points, const std::vector<double>& n
   };
   const int64_t n = static_cast<int64_t>(points.size() / 3);
   const double quantum = std::ldexp(r->RootEdge, -32);
-  std::vector<Item> items(n);
+  LargeVector<Item> items(n);
   for (int64_t i = 0; i < n; ++i)
   {
     for (int a = 0; a < 3; ++a)
@@ -126,7 +126,7 @@ void MergePoints(const std::vector<double>& points, const std::vector<double>& n
     return std::lexicographical_compare(p, p + 3, q, q + 3) ||
       (std::equal(p, p + 3, q) && a.Index < b.Index);
   });
-  std::vector<int64_t> merged(n);
+  LargeVector<int64_t> merged(n);
   int64_t kept = 0;
   for (int64_t i = 0; i < n; ++i)
   {
@@ -144,27 +144,27 @@ void MergePoints(const std::vector<double>& points, const std::vector<double>& n
     }
     merged[items[i].Index] = kept - 1;
   }
-  std::vector<Item>().swap(items);
+  LargeVector<Item>().swap(items);
   // triangles in lexicographic order of their merged corners: bucketed by the first corner,
   // then each bucket (a few triangles) sorted by the other two
   const int64_t nt = static_cast<int64_t>(triangles.size() / 3);
-  std::vector<int64_t> start(kept + 1, 0);
+  LargeVector<int64_t> start(kept + 1, 0);
   for (int64_t t = 0; t < nt; ++t)
   {
     ++start[merged[triangles[3 * t]] + 1];
   }
   std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<std::array<int64_t, 2>> rest(nt);
+  LargeVector<std::array<int64_t, 2>> rest(nt);
   {
-    std::vector<int64_t> fill(start.begin(), start.end() - 1);
+    LargeVector<int64_t> fill(start.begin(), start.end() - 1);
     for (int64_t t = 0; t < nt; ++t)
     {
       rest[fill[merged[triangles[3 * t]]]++] = { merged[triangles[3 * t + 1]],
         merged[triangles[3 * t + 2]] };
     }
   }
-  std::vector<int64_t>().swap(triangles);
-  std::vector<int64_t>().swap(merged);
+  LargeVector<int64_t>().swap(triangles);
+  LargeVector<int64_t>().swap(merged);
   r->Triangles.resize(3 * nt);
   for (int64_t first = 0; first < kept; ++first)
   {
@@ -186,8 +186,8 @@ void MergeCorners(std::vector<double>& soup, bool hasNormals, const CellGrid& ce
 {
   const int stride = 9 * (hasNormals ? 2 : 1);
   const size_t n = soup.size() / stride;
-  std::vector<double> points(9 * n), normals(hasNormals ? 9 * n : 0);
-  std::vector<int64_t> triangles(3 * n);
+  LargeVector<double> points(9 * n), normals(hasNormals ? 9 * n : 0);
+  LargeVector<int64_t> triangles(3 * n);
   for (size_t t = 0; t < n; ++t)
   {
     std::copy(&soup[t * stride], &soup[t * stride] + 9, &points[9 * t]);
@@ -206,8 +206,8 @@ int64_t CountOpenEdges(const PartitionResult& r)
 {
   // the uses of each edge with an owned end, bucketed by the lower end: (higher end, 1 when
   // downward) pairs, each bucket then sorted (a few uses)
-  const std::vector<int64_t>& tri = r.Triangles;
-  const std::vector<uint8_t>& ghost = r.Ghost;
+  const LargeVector<int64_t>& tri = r.Triangles;
+  const LargeVector<uint8_t>& ghost = r.Ghost;
   const int64_t np = static_cast<int64_t>(ghost.size());
   auto forEachUse = [&](auto&& body) {
     for (size_t t = 0; t < tri.size(); t += 3)
@@ -222,12 +222,12 @@ int64_t CountOpenEdges(const PartitionResult& r)
       }
     }
   };
-  std::vector<int64_t> start(np + 1, 0);
+  LargeVector<int64_t> start(np + 1, 0);
   forEachUse([&](int64_t lower, int64_t, int) { ++start[lower + 1]; });
   std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<std::pair<int64_t, int>> uses(start[np]);
+  LargeVector<std::pair<int64_t, int>> uses(start[np]);
   {
-    std::vector<int64_t> fill(start.begin(), start.end() - 1);
+    LargeVector<int64_t> fill(start.begin(), start.end() - 1);
     forEachUse([&](int64_t lower, int64_t higher, int down) {
       uses[fill[lower]++] = { higher, down };
     });
@@ -253,7 +253,7 @@ int64_t CountOpenEdges(const PartitionResult& r)
 //------------------------------------------------------------------------------
 void CountOwnedCells(const PartitionResult& r, const CellGrid& cells, int64_t* counts)
 {
-  std::vector<uint64_t> keys;
+  LargeVector<uint64_t> keys;
   const int64_t np = static_cast<int64_t>(r.Ghost.size());
   for (int64_t p = 0; p < np; ++p)
   {

@@ -38,6 +38,8 @@
 #ifndef plodPartition_h
 #define plodPartition_h
 
+#include "plodLargeArrays.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -115,10 +117,10 @@ struct PartitionResult
   int64_t NumberOfSkippedTriangles = 0; ///< this process's unusable input triangles
   bool HasNormals = false;              ///< every process had normals
 
-  std::vector<double> Points;     ///< 3 per point, in canonical order
-  std::vector<double> Normals;    ///< 3 per point when HasNormals
-  std::vector<uint8_t> Ghost;     ///< 1 per point: owned by another process
-  std::vector<int64_t> Triangles; ///< 3 per triangle, in canonical order
+  LargeVector<double> Points;     ///< 3 per point, in canonical order
+  LargeVector<double> Normals;    ///< 3 per point when HasNormals
+  LargeVector<uint8_t> Ghost;     ///< 1 per point: owned by another process
+  LargeVector<int64_t> Triangles; ///< 3 per triangle, in canonical order
 };
 
 /// Shares the mesh out (see the file's documentation). Collective: every process calls it.

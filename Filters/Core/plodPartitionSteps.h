@@ -87,8 +87,8 @@ bool BoxMeets(const Box& box, const uint8_t* mask);
  * triangles in canonical order (by position), a point flagged as a ghost when another rank
  * owns its cell. Releases `triangles`.
  */
-void MergePoints(const std::vector<double>& points, const std::vector<double>& normals,
-  std::vector<int64_t>& triangles, const CellGrid& cells, const std::vector<int>& owner, int rank,
+void MergePoints(const LargeVector<double>& points, const LargeVector<double>& normals,
+  LargeVector<int64_t>& triangles, const CellGrid& cells, const std::vector<int>& owner, int rank,
   PartitionResult* r);
 
 /**

@@ -176,10 +176,11 @@ private:
     return ok;
   }
 
-  template <typename T>
-  bool Put(int m, int l, const std::vector<T>& values)
+  template <typename Vector>
+  bool Put(int m, int l, const Vector& values)
   {
-    return this->Writer(m, l).Write(values.data(), values.size() * sizeof(T), this->Why);
+    return this->Writer(m, l).Write(
+      values.data(), values.size() * sizeof(typename Vector::value_type), this->Why);
   }
 
   /// Tuples [a, b) of a member of `v`, as they are.
@@ -194,7 +195,7 @@ private:
   template <typename T, typename Convert>
   bool PutConverted(int m, int l, int64_t a, int64_t b, Convert&& convert)
   {
-    std::vector<T> values(static_cast<size_t>(b - a));
+    LargeVector<T> values(static_cast<size_t>(b - a));
     for (int64_t i = a; i < b; ++i)
     {
       values[i - a] = static_cast<T>(convert(i));
@@ -210,8 +211,8 @@ private:
     {
       return false;
     }
-    std::vector<float> normals(r.Normals.begin(), r.Normals.end());
-    std::vector<double>().swap(r.Normals);
+    LargeVector<float> normals(r.Normals.begin(), r.Normals.end());
+    LargeVector<double>().swap(r.Normals);
     BuildInput in;
     in.NumberOfPoints = static_cast<int64_t>(r.Ghost.size());
     in.Points = r.Points.data();

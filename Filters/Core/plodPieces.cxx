@@ -168,10 +168,10 @@ public:
  * index in `used` (`local`): a radix sort of (id, position) pairs, in linear time.
  */
 void NumberUsedPoints(
-  const std::vector<uint32_t>& ids, std::vector<uint32_t>* used, std::vector<int64_t>* local)
+  const LargeVector<uint32_t>& ids, LargeVector<uint32_t>* used, LargeVector<int64_t>* local)
 {
   const size_t n = ids.size();
-  std::vector<uint64_t> pairs(n), other(n);
+  LargeVector<uint64_t> pairs(n), other(n);
   for (size_t i = 0; i < n; ++i)
   {
     pairs[i] = uint64_t(ids[i]) << 32 | uint64_t(i);
@@ -684,7 +684,7 @@ struct PLYPieces::Internals
       *why = SystemError("cannot open the temporary file", path);
       return false;
     }
-    std::vector<uint32_t> ids;
+    LargeVector<uint32_t> ids;
     const bool read = ReadBack(fd, 3 * this->PieceTriangles[p], &ids, path, why);
     ::close(fd);
     if (!read)
@@ -699,11 +699,11 @@ struct PLYPieces::Internals
     }
     // the points the piece uses, in the order of their index in the file, and each corner's
     // index among them
-    std::vector<uint32_t> used;
-    std::vector<int64_t> triangles(ids.size());
+    LargeVector<uint32_t> used;
+    LargeVector<int64_t> triangles(ids.size());
     NumberUsedPoints(ids, &used, &triangles);
     const bool hasNormals = this->Agreed.HasNormals;
-    std::vector<double> points(3 * used.size()), normals(hasNormals ? 3 * used.size() : 0);
+    LargeVector<double> points(3 * used.size()), normals(hasNormals ? 3 * used.size() : 0);
     for (size_t i = 0; i < used.size(); ++i)
     {
       this->Position(used[i], &points[3 * i]);
@@ -712,8 +712,8 @@ struct PLYPieces::Internals
         this->Normal(used[i], &normals[3 * i]);
       }
     }
-    std::vector<uint32_t>().swap(ids);
-    std::vector<uint32_t>().swap(used);
+    LargeVector<uint32_t>().swap(ids);
+    LargeVector<uint32_t>().swap(used);
     partition::MergePoints(points, normals, triangles, this->Cells, this->Owner, p, r);
     return true;
   }

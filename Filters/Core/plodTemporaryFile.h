@@ -59,6 +59,10 @@ public:
     {
       return false;
     }
+    if (bytes >= BufferBytes) // a whole array: straight to the file, not through a copy
+    {
+      return this->WriteAll(p, bytes, why);
+    }
     this->Buffer.insert(this->Buffer.end(), p, p + bytes);
     return true;
   }
@@ -83,10 +87,17 @@ private:
 
   bool Flush(std::string* why)
   {
+    const bool ok = this->WriteAll(this->Buffer.data(), this->Buffer.size(), why);
+    this->Buffer.clear();
+    return ok;
+  }
+
+  bool WriteAll(const char* p, size_t bytes, std::string* why)
+  {
     size_t done = 0;
-    while (done < this->Buffer.size())
+    while (done < bytes)
     {
-      const ssize_t n = ::write(this->Fd, this->Buffer.data() + done, this->Buffer.size() - done);
+      const ssize_t n = ::write(this->Fd, p + done, bytes - done);
       if (n < 0 && errno == EINTR)
       {
         continue;
@@ -98,7 +109,6 @@ private:
       }
       done += static_cast<size_t>(n);
     }
-    this->Buffer.clear();
     return true;
   }
 
@@ -109,13 +119,12 @@ private:
 };
 
 /// Reads a whole temporary file's bytes into `out`.
-template <typename T>
-inline bool ReadBack(
-  int fd, int64_t count, std::vector<T>* out, const std::string& path, std::string* why)
+template <typename Vector>
+inline bool ReadBack(int fd, int64_t count, Vector* out, const std::string& path, std::string* why)
 {
   out->resize(static_cast<size_t>(count));
   char* p = reinterpret_cast<char*>(out->data());
-  size_t left = static_cast<size_t>(count) * sizeof(T);
+  size_t left = static_cast<size_t>(count) * sizeof(typename Vector::value_type);
   while (left > 0)
   {
     const ssize_t n = ::read(fd, p, left);

@@ -5,6 +5,7 @@ set(plod_core_sources
   plodBuildUtil.cxx
   plodCloudSurface.cxx
   plodCut.cxx
+  plodLargeArrays.cxx
   plodMeshFileCheck.cxx
   plodOctree.cxx
   plodOctreeBuilder.cxx
@@ -26,6 +27,7 @@ set(plod_core_headers
   plodCloudSurface.h
   plodCut.h
   plodFileInput.h
+  plodLargeArrays.h
   plodMeshFileCheck.h
   plodOctree.h
   plodOctreeBuilder.h

@@ -218,7 +218,7 @@ std::vector<plod::PartitionResult> Partition(const Mesh& m, int ranks, unsigned 
 
 using Triangle = std::array<std::array<double, 3>, 3>;
 
-Triangle Corners(const std::vector<double>& points, const int64_t* ids)
+Triangle Corners(const double* points, const int64_t* ids)
 {
   Triangle t;
   for (int c = 0; c < 3; ++c)
@@ -267,7 +267,7 @@ TEST(Partition, EverySplitAgreesWithOneRankAndDrawsEachTriangleOnce)
     std::map<Triangle, int> whole;
     for (size_t t = 0; t < m.Triangles.size(); t += 3)
     {
-      whole[Corners(m.Points, &m.Triangles[t])] = 0;
+      whole[Corners(m.Points.data(), &m.Triangles[t])] = 0;
     }
     for (int ranks : { 2, 3, 5 })
     {
@@ -290,7 +290,7 @@ TEST(Partition, EverySplitAgreesWithOneRankAndDrawsEachTriangleOnce)
           owned += p.NumberOfOwnedCells;
           for (size_t t = 0; t < p.Triangles.size(); t += 3)
           {
-            const Triangle tri = Corners(p.Points, &p.Triangles[t]);
+            const Triangle tri = Corners(p.Points.data(), &p.Triangles[t]);
             ASSERT_EQ(drawn.count(tri), 1u) << "a triangle that is not the mesh's";
             if (!p.Ghost[p.Triangles[t + LeadCorner(p, &p.Triangles[t])]])
             {
@@ -316,8 +316,7 @@ void ExpectCompleteCells(const Mesh& m, int ranks, unsigned seed)
   const auto one = Partition(m, 1, 1);
   const auto parts = Partition(m, ranks, seed);
   const int k = 2, shift = plod::MaxFinestLevel - k;
-  auto cellsOf = [&](const plod::PartitionResult& r, const std::vector<double>& points,
-                   const int64_t* ids) {
+  auto cellsOf = [&](const plod::PartitionResult& r, const double* points, const int64_t* ids) {
     const plod::CellQuantizer q(r.RootOrigin, r.RootEdge);
     std::set<uint64_t> cells;
     uint32_t lo[3] = { ~0u, ~0u, ~0u }, hi[3] = { 0, 0, 0 };
@@ -339,9 +338,9 @@ void ExpectCompleteCells(const Mesh& m, int ranks, unsigned seed)
   std::map<uint64_t, std::set<Triangle>> wholeByCell;
   for (size_t t = 0; t < m.Triangles.size(); t += 3)
   {
-    for (uint64_t c : cellsOf(one[0], m.Points, &m.Triangles[t]))
+    for (uint64_t c : cellsOf(one[0], m.Points.data(), &m.Triangles[t]))
     {
-      wholeByCell[c].insert(Corners(m.Points, &m.Triangles[t]));
+      wholeByCell[c].insert(Corners(m.Points.data(), &m.Triangles[t]));
     }
   }
   for (const plod::PartitionResult& p : parts)
@@ -350,10 +349,10 @@ void ExpectCompleteCells(const Mesh& m, int ranks, unsigned seed)
     std::set<uint64_t> drawnIn;
     for (size_t t = 0; t < p.Triangles.size(); t += 3)
     {
-      const auto cells = cellsOf(p, p.Points, &p.Triangles[t]);
+      const auto cells = cellsOf(p, p.Points.data(), &p.Triangles[t]);
       for (uint64_t c : cells)
       {
-        held[c].insert(Corners(p.Points, &p.Triangles[t]));
+        held[c].insert(Corners(p.Points.data(), &p.Triangles[t]));
       }
       if (!p.Ghost[p.Triangles[t + LeadCorner(p, &p.Triangles[t])]])
       {
