@@ -752,8 +752,9 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
   // most of the rest, the write the end; never backwards (a step may come again)
   double shown = 0;
   auto progress = [this, &shown](double f, const char* step) {
-    static const char* const steps[] = { "reading the file", "bounds", "cells", "halo",
-      "piece sizes", "pieces", "merging the pieces" };
+    static const char* const steps[] = { "reading the file", "bounds", "cells", "pieces",
+      "merging the pieces" };
+    constexpr int n = sizeof(steps) / sizeof(steps[0]);
     const std::string s = step;
     double at = 0.9, share = 0.1; // writing the file
     if (s == "building the pieces")
@@ -761,12 +762,12 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
       at = 1.0 / 3.0;
       share = 0.9 - at;
     }
-    for (int k = 0; k < 7; ++k)
+    for (int k = 0; k < n; ++k)
     {
       if (s == steps[k])
       {
-        at = k / 21.0;
-        share = 1.0 / 21.0;
+        at = k / (3.0 * n);
+        share = 1.0 / (3.0 * n);
       }
     }
     shown = std::max(shown, at + share * f);

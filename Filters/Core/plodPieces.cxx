@@ -22,6 +22,7 @@
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <unordered_map>
 
 namespace plod
 {
@@ -203,6 +204,71 @@ void NumberUsedPoints(
   }
 }
 
+/**
+ * Usable triangles counted by their box of level-k cells (k at most 6: each coordinate of a
+ * cell in 6 bits): the boxes of one cell in a table by cell, the wider ones (triangles across a
+ * cell's face) in a hash table.
+ */
+class BoxCounts
+{
+public:
+  void Reset()
+  {
+    this->OneCell.assign(size_t(1) << 18, 0);
+    this->Wider.clear();
+  }
+
+  void Add(const partition::Box& b)
+  {
+    const uint64_t lo = Code(b.Lo), hi = Code(b.Hi);
+    if (lo == hi)
+    {
+      ++this->OneCell[lo];
+    }
+    else
+    {
+      ++this->Wider[lo | hi << 18];
+    }
+  }
+
+  /// body(box, count) for every box with triangles, in no particular order.
+  template <typename Body>
+  void ForEach(Body&& body) const
+  {
+    for (size_t code = 0; code < this->OneCell.size(); ++code)
+    {
+      if (this->OneCell[code] > 0)
+      {
+        body(BoxOf(code, code), this->OneCell[code]);
+      }
+    }
+    for (const auto& wide : this->Wider)
+    {
+      body(BoxOf(wide.first & 0x3ffff, wide.first >> 18), wide.second);
+    }
+  }
+
+private:
+  static uint64_t Code(const uint32_t c[3])
+  {
+    return uint64_t(c[0]) | uint64_t(c[1]) << 6 | uint64_t(c[2]) << 12;
+  }
+
+  static partition::Box BoxOf(uint64_t lo, uint64_t hi)
+  {
+    partition::Box b;
+    for (int a = 0; a < 3; ++a)
+    {
+      b.Lo[a] = static_cast<uint32_t>(lo >> (6 * a) & 63);
+      b.Hi[a] = static_cast<uint32_t>(hi >> (6 * a) & 63);
+    }
+    return b;
+  }
+
+  std::vector<int64_t> OneCell;                // by the cell's code
+  std::unordered_map<uint64_t, int64_t> Wider; // by the codes of the box's corners
+};
+
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -230,6 +296,7 @@ struct PLYPieces::Internals
   PartitionResult Agreed;
   partition::CellGrid Cells;
   std::vector<int64_t> PerCell;
+  BoxCounts Boxes;
   std::vector<int> Owner;
   std::vector<std::vector<int>> NeededBy;
   std::vector<int64_t> PieceTriangles;
@@ -460,13 +527,16 @@ struct PLYPieces::Internals
     return true;
   }
 
-  // 3. Triangles per level-k cell; the pieces: as many as asked, or as few as fit the memory
-  // limit with their halo; the cells each piece needs whole.
+  // 3. Triangles per level-k cell and per box of cells; the pieces: as many as asked, or as
+  // few as fit the memory limit with their halo; the cells each piece needs whole (from the
+  // boxes: one pass over the triangles for every number of pieces tried).
   bool ShareOutCells()
   {
     this->PerCell.assign(this->Cells.CellCount(), 0);
+    this->Boxes.Reset();
     if (!this->ForEachTriangle("cells", [&](const uint32_t*, const double x[3][3]) {
           ++this->PerCell[this->Cells.CellOf(x[0])];
+          this->Boxes.Add(this->Cells.BoxOf(x[0], x[1], x[2]));
           return true;
         }))
     {
@@ -491,10 +561,8 @@ struct PLYPieces::Internals
           (sized ? " or more memory" : " or fewer pieces"));
       }
       this->Owner = partition::ShareOutCells(this->PerCell, this->Pieces);
-      if (!this->FindNeededCells() || !this->CountPieceTriangles())
-      {
-        return false;
-      }
+      this->FindNeededCells();
+      this->CountPieceTriangles();
       const int64_t largest =
         *std::max_element(this->PieceTriangles.begin(), this->PieceTriangles.end());
       if (!sized || double(largest) <= fit)
@@ -521,19 +589,14 @@ struct PLYPieces::Internals
   }
 
   /// The cells each piece needs whole, as the pieces needing each cell.
-  bool FindNeededCells()
+  void FindNeededCells()
   {
     const int64_t cellCount = this->Cells.CellCount();
     std::vector<uint8_t> needs(static_cast<size_t>(this->Pieces) * cellCount, 0);
     std::vector<int64_t> touched;
-    if (!this->ForEachTriangle("halo", [&](const uint32_t*, const double x[3][3]) {
-          partition::MarkNeededCells(
-            this->Cells.BoxOf(x[0], x[1], x[2]), this->Owner, cellCount, needs.data(), touched);
-          return true;
-        }))
-    {
-      return false;
-    }
+    this->Boxes.ForEach([&](const partition::Box& box, int64_t) {
+      partition::MarkNeededCells(box, this->Owner, cellCount, needs.data(), touched);
+    });
     this->NeededBy.assign(cellCount, {});
     for (int p = 0; p < this->Pieces; ++p)
     {
@@ -545,7 +608,6 @@ struct PLYPieces::Internals
         }
       }
     }
-    return true;
   }
 
   /// body(ids, p) for each piece p needing each triangle.
@@ -571,12 +633,21 @@ struct PLYPieces::Internals
     });
   }
 
-  bool CountPieceTriangles()
+  /// The triangles each piece receives: a box's triangles go to every piece needing a cell of
+  /// it (as ForEachPieceTriangle sends them).
+  void CountPieceTriangles()
   {
     this->PieceTriangles.assign(this->Pieces, 0);
-    return this->ForEachPieceTriangle("piece sizes", [&](const uint32_t*, int p) {
-      ++this->PieceTriangles[p];
-      return true;
+    std::vector<char> seen(this->Pieces);
+    this->Boxes.ForEach([&](const partition::Box& box, int64_t count) {
+      std::fill(seen.begin(), seen.end(), 0);
+      partition::ForEachCell(box, [&](int64_t cell) {
+        for (int p : this->NeededBy[cell])
+        {
+          this->PieceTriangles[p] += seen[p] ? 0 : count;
+          seen[p] = 1;
+        }
+      });
     });
   }
 

@@ -15,9 +15,10 @@
  * The file is read once (StreamPLYMesh), forward; nothing of the whole mesh is held in memory:
  * 1. points to a temporary file (single or double precision as in the file, normals as
  *    floats), triangles to another (32-bit indices): 12 to 48 bytes per point, 12 per triangle;
- * 2. over the triangle file, with the point file mapped: the bounds of the usable triangles
- *    (a non-finite corner is skipped and counted), the root cube, triangles per level-k cell,
- *    the owners, the cells each piece needs whole;
+ * 2. two passes over the triangle file, with the point file mapped: the bounds of the usable
+ *    triangles (a non-finite corner is skipped and counted) and the root cube; then the
+ *    triangles per level-k cell and per box of cells, from which the owners, the cells each
+ *    piece needs whole and the pieces' sizes follow for any number of pieces;
  * 3. each triangle's indices appended to the file of every piece that needs it;
  * 4. each piece merged (plod::partition::MergePoints over the points it uses; two pieces at a
  *    time over PiecesParameters::Parallel) and kept in its own file, its owned cells and open
