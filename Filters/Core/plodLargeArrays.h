@@ -13,7 +13,8 @@
  * a sanitizer, every buffer comes from `operator new` (the sanitizer watches those).
  *
  * Meant for arrays written whole soon after they are made (a build's): an array touched only
- * here and there would take 2 MiB where it touches a byte.
+ * here and there would take 2 MiB where it touches a byte. Where free memory is fragmented, the
+ * kernel may compact it when a huge page is first touched (its `defrag` setting decides).
  *
  * @code
  * plod::LargeVector<double> points(3 * n); // a std::vector with LargeAllocator
