@@ -752,9 +752,7 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
   // most of the rest, the write the end; never backwards (a step may come again)
   double shown = 0;
   auto progress = [this, &shown](double f, const char* step) {
-    static const char* const steps[] = { "reading the file", "bounds", "cells", "pieces",
-      "merging the pieces" };
-    constexpr int n = sizeof(steps) / sizeof(steps[0]);
+    constexpr int n = sizeof(plod::SplitSteps) / sizeof(plod::SplitSteps[0]);
     const std::string s = step;
     double at = 0.9, share = 0.1; // writing the file
     if (s == "building the pieces")
@@ -764,7 +762,7 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
     }
     for (int k = 0; k < n; ++k)
     {
-      if (s == steps[k])
+      if (s == plod::SplitSteps[k])
       {
         at = k / (3.0 * n);
         share = 1.0 / (3.0 * n);

@@ -27,9 +27,35 @@ constexpr bool Mapped = true;
 constexpr bool Mapped = true;
 #endif
 
-size_t RoundUpToHugePages(size_t bytes)
+/// Whether a buffer of `bytes` is mapped apart (else it comes from operator new).
+bool MappedApart(size_t bytes)
 {
-  return (bytes + HugePageBytes - 1) / HugePageBytes * HugePageBytes;
+  return Mapped && bytes >= LargeAllocationBytes;
+}
+
+uintptr_t RoundUpToHugePages(uintptr_t x)
+{
+  return (x + HugePageBytes - 1) / HugePageBytes * HugePageBytes;
+}
+
+uintptr_t RoundDownToHugePages(uintptr_t x)
+{
+  return x / HugePageBytes * HugePageBytes;
+}
+
+/// Advises [first, last), whole huge pages, for huge pages (advice only: ignored by a kernel
+/// without transparent huge pages).
+void Advise(uintptr_t first, uintptr_t last)
+{
+#ifdef MADV_HUGEPAGE
+  if (last > first)
+  {
+    ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+  }
+#else
+  (void)first;
+  (void)last;
+#endif
 }
 
 } // namespace
@@ -43,7 +69,7 @@ bool LargeArraysAreMapped()
 //------------------------------------------------------------------------------
 void* AllocateLarge(size_t bytes)
 {
-  if (!Mapped || bytes < LargeAllocationBytes)
+  if (!MappedApart(bytes))
   {
     return ::operator new(bytes);
   }
@@ -61,7 +87,7 @@ void* AllocateLarge(size_t bytes)
     throw std::bad_alloc();
   }
   const uintptr_t start = reinterpret_cast<uintptr_t>(mapped);
-  const uintptr_t aligned = (start + HugePageBytes - 1) / HugePageBytes * HugePageBytes;
+  const uintptr_t aligned = RoundUpToHugePages(start);
   if (aligned > start)
   {
     ::munmap(mapped, aligned - start);
@@ -72,11 +98,8 @@ void* AllocateLarge(size_t bytes)
   {
     ::munmap(reinterpret_cast<void*>(end), mappedEnd - end);
   }
-  void* p = reinterpret_cast<void*>(aligned);
-#ifdef MADV_HUGEPAGE
-  ::madvise(p, length, MADV_HUGEPAGE); // advice only: ignored without transparent huge pages
-#endif
-  return p;
+  Advise(aligned, end);
+  return reinterpret_cast<void*>(aligned);
 }
 
 //------------------------------------------------------------------------------
@@ -87,14 +110,7 @@ void AdviseHugePages(void* p, size_t bytes) noexcept
     return;
   }
   const uintptr_t start = reinterpret_cast<uintptr_t>(p);
-  const uintptr_t first = (start + HugePageBytes - 1) / HugePageBytes * HugePageBytes;
-  const uintptr_t last = (start + bytes) / HugePageBytes * HugePageBytes;
-#ifdef MADV_HUGEPAGE
-  if (last > first)
-  {
-    ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-  }
-#endif
+  Advise(RoundUpToHugePages(start), RoundDownToHugePages(start + bytes));
 }
 
 //------------------------------------------------------------------------------
@@ -104,7 +120,7 @@ void FreeLarge(void* p, size_t bytes) noexcept
   {
     return;
   }
-  if (!Mapped || bytes < LargeAllocationBytes)
+  if (!MappedApart(bytes))
   {
     ::operator delete(p);
     return;

@@ -405,7 +405,7 @@ struct PLYPieces::Internals
     }
     SplitSink sink(points, normals, triangles);
     const bool read = StreamPLYMesh(
-      path, &sink, this->Why, [this](double f) { return this->Report(f, "reading the file"); });
+      path, &sink, this->Why, [this](double f) { return this->Report(f, split_step::Reading); });
     const bool closed =
       points.Close(this->Why) && normals.Close(this->Why) && triangles.Close(this->Why);
     this->AddTemporary(points.Size() + normals.Size() + triangles.Size());
@@ -495,18 +495,19 @@ struct PLYPieces::Internals
       hi[a] = -std::numeric_limits<double>::max();
     }
     int64_t usable = 0;
-    const bool ok = this->ForEachTriangle("bounds", [&](const uint32_t*, const double x[3][3]) {
-      for (int c = 0; c < 3; ++c)
-      {
-        for (int a = 0; a < 3; ++a)
+    const bool ok =
+      this->ForEachTriangle(split_step::Bounds, [&](const uint32_t*, const double x[3][3]) {
+        for (int c = 0; c < 3; ++c)
         {
-          lo[a] = std::min(lo[a], x[c][a]);
-          hi[a] = std::max(hi[a], x[c][a]);
+          for (int a = 0; a < 3; ++a)
+          {
+            lo[a] = std::min(lo[a], x[c][a]);
+            hi[a] = std::max(hi[a], x[c][a]);
+          }
         }
-      }
-      ++usable;
-      return true;
-    });
+        ++usable;
+        return true;
+      });
     if (!ok)
     {
       return false;
@@ -534,7 +535,7 @@ struct PLYPieces::Internals
   {
     this->PerCell.assign(this->Cells.CellCount(), 0);
     this->Boxes.Reset();
-    if (!this->ForEachTriangle("cells", [&](const uint32_t*, const double x[3][3]) {
+    if (!this->ForEachTriangle(split_step::Cells, [&](const uint32_t*, const double x[3][3]) {
           ++this->PerCell[this->Cells.CellOf(x[0])];
           this->Boxes.Add(this->Cells.BoxOf(x[0], x[1], x[2]));
           return true;
@@ -662,9 +663,10 @@ struct PLYPieces::Internals
         return false;
       }
     }
-    const bool ok = this->ForEachPieceTriangle("pieces", [&](const uint32_t* ids, int p) {
-      return files[p].Write(ids, 3 * sizeof(uint32_t), this->Why);
-    });
+    const bool ok =
+      this->ForEachPieceTriangle(split_step::Distributing, [&](const uint32_t* ids, int p) {
+        return files[p].Write(ids, 3 * sizeof(uint32_t), this->Why);
+      });
     bool closed = true;
     for (int p = 0; p < this->Pieces; ++p)
     {
@@ -683,7 +685,7 @@ struct PLYPieces::Internals
     this->PieceHalo.assign(this->Pieces, 0);
     for (int first = 0; first < this->Pieces; first += MergedAtOnce)
     {
-      if (!this->Report(double(first) / double(this->Pieces), "merging the pieces"))
+      if (!this->Report(double(first) / double(this->Pieces), split_step::Merging))
       {
         return false;
       }

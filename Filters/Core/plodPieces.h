@@ -48,6 +48,19 @@
 namespace plod
 {
 
+/// The split's steps, in order, by the names PiecesParameters::Progress receives (a step may
+/// come again when more pieces are needed).
+namespace split_step
+{
+constexpr const char* Reading = "reading the file";
+constexpr const char* Bounds = "bounds";
+constexpr const char* Cells = "cells";
+constexpr const char* Distributing = "pieces";
+constexpr const char* Merging = "merging the pieces";
+} // namespace split_step
+constexpr const char* SplitSteps[] = { split_step::Reading, split_step::Bounds, split_step::Cells,
+  split_step::Distributing, split_step::Merging };
+
 struct PiecesParameters
 {
   /// k, the level whose cells are shared out, 1 to 6. The halo is one level-k cell wide around
@@ -61,8 +74,8 @@ struct PiecesParameters
   double MemoryLimit = 4.0e9;
   /// Where the temporary directory goes; empty: $TMPDIR, else /tmp.
   std::string TemporaryDirectory;
-  /// Called with the fraction done of the current step, in [0, 1], and the step's name; return
-  /// false to abort.
+  /// Called with the fraction done of the current step, in [0, 1], and the step's name (one of
+  /// SplitSteps); return false to abort.
   std::function<bool(double, const char*)> Progress;
   /// How pieces are merged two at a time (each on a range of its own); SerialFor: one after
   /// the other.

@@ -834,7 +834,7 @@ TEST(Pieces, FaultsSayWhatWasWrongAndLeaveNoTemporaryFiles)
   refused(path, sized, "memory limit");
 
   // an abort from the progress callback, at each step
-  for (const char* step : { "reading the file", "bounds", "cells", "pieces", "merging the pieces" })
+  for (const char* step : plod::SplitSteps)
   {
     plod::PiecesParameters abort = params;
     std::set<std::string> seen;
