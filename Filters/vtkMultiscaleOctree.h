@@ -142,9 +142,10 @@ public:
 
   /**
    * Levels coarser than this hold the tree's structure only, not surfaces to draw: an octree
-   * assembled from pieces built one after the other (plodPieceAssembly.h) has no vertices or
-   * cones above the pieces' level. vtkPerceptualLODSelector refines them at once (as its
-   * MinimumLevel does). Default 0: every level is drawn.
+   * assembled from pieces built one after the other (plodPieceAssembly.h) whose levels above
+   * the pieces' level could not be built has no vertices or cones there.
+   * vtkPerceptualLODSelector refines them at once (as its MinimumLevel does). Default 0: every
+   * level is drawn.
    */
   vtkGetMacro(CoarsestDrawnLevel, int);
   vtkSetClampMacro(CoarsestDrawnLevel, int, 0, 21);

@@ -818,6 +818,12 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
                                    << ". Empty octree.");
     return 1;
   }
+  if (!report.StructureOnly.empty())
+  {
+    vtkWarningMacro("The levels above "
+      << pieces.GetOwnershipLevel() << " of '" << octreeFile
+      << "' hold structure only (a cut stops there): " << report.StructureOnly << ".");
+  }
   vtkNew<vtkMultiscaleOctreeReader> reader;
   reader->SetFileName(octreeFile.c_str());
   reader->Update();

@@ -177,10 +177,13 @@ public:
    * on. The file is split by space into pieces that each fit the limit, built one after the
    * other and written to this file (plodPieces.h, plodPieceAssembly.h; temporary files beside
    * it, removed at the end); the output is then the file, mapped, as vtkMultiscaleOctreeReader
-   * gives it. Levels coarser than the pieces' level hold structure only
-   * (vtkMultiscaleOctree::GetCoarsestDrawnLevel); finer ones are the in-memory build's, node
-   * for node. FinestLevel, the vertex rule and the threads apply; the root cube is the file's
-   * own. An existing file is replaced only once the new one is complete and verified.
+   * gives it. Levels of the pieces' level and finer are the in-memory build's, node for node;
+   * coarser ones are built from the octree of the cut at the pieces' level
+   * (plodPieceAssembly.h says how they differ from the in-memory build's), or, where that
+   * cannot be built, hold structure only, with a warning
+   * (vtkMultiscaleOctree::GetCoarsestDrawnLevel). FinestLevel, the vertex rule and the threads
+   * apply; the root cube is the file's own. An existing file is replaced only once the new one is
+   * complete and verified.
    */
   vtkSetFilePathMacro(OctreeFileName);
   vtkGetFilePathMacro(OctreeFileName);

@@ -80,8 +80,8 @@ struct OctreeFileHeader
   int64_t BoundaryEdges = 0, NonManifoldEdges = 0;
   int64_t MisorientedEdges = 0; // stored as a 32-bit count, saturated (files before: 0)
   /// Levels coarser than this hold the tree's structure only, not surfaces to draw (an octree
-  /// assembled from pieces, plodPieceAssembly.h): a selector refines them at once. 0: every
-  /// level is drawn (files before: 0).
+  /// assembled from pieces whose levels above them could not be built, plodPieceAssembly.h):
+  /// a selector refines them at once. 0: every level is drawn (files before: 0).
   int32_t CoarsestDrawnLevel = 0;
 };
 

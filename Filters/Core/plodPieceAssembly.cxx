@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <fcntl.h>
+#include <limits>
 #include <map>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -57,12 +58,14 @@ inline uint64_t PackCorner(uint64_t cell, int64_t index)
   return cell << 32 | uint64_t(index);
 }
 
-/// A triangle owned by a node above level k, kept for the file's first triangles.
+/// A triangle owned by a node above level k, kept for the file's first triangles: its owner
+/// (level and cell), its corners packed as points and as level-k clusters (PackCorner).
 struct StructureTriangle
 {
   int Level;
   uint64_t Cell;
   std::array<uint64_t, 3> Corners;
+  std::array<uint64_t, 3> Clusters;
 };
 
 class Assembler
@@ -318,6 +321,20 @@ private:
     return PackCorner(this->CellOfK[n - this->LevelStart[this->K]], point - v.FirstPoint[n]);
   }
 
+  /// A point's cluster of level k as its level-k cell and its index among the cell's clusters.
+  /// A structure triangle's corners lie in cells complete in the piece (plodPartition.h), so
+  /// this is the cluster the piece owning the cell numbers the same way.
+  uint64_t ClusterOfK(const OctreeView& v, int64_t point) const
+  {
+    int64_t c = v.PointCluster[point];
+    while (v.Level[v.ClusterNode[c]] > this->K)
+    {
+      c = v.ClusterParent[c];
+    }
+    const int64_t n = v.ClusterNode[c];
+    return PackCorner(this->CellOfK[n - this->LevelStart[this->K]], c - v.FirstCluster[n]);
+  }
+
   bool KeepOwned(const OctreeView& v)
   {
     const std::vector<FileArray> arrays = FileArraysOf(v);
@@ -338,6 +355,8 @@ private:
     {
       this->CellsK.push_back(this->CellOfK[n - this->LevelStart[this->K]]);
       this->CellsKFirstPoint.push_back(this->PointsBefore + v.FirstPoint[n] - this->PointsA);
+      this->CellsKFirstCluster.push_back(
+        this->ClustersBefore[this->K] + v.FirstCluster[n] - this->ClustersA(v, this->K));
     }
     for (int l = this->K; l <= this->L; ++l)
     {
@@ -458,14 +477,16 @@ private:
         if (!v.PointGhost[std::min({ c[0], c[1], c[2] })])
         {
           this->Structure.push_back({ v.Level[n], cell,
-            { this->Corner(v, c[0]), this->Corner(v, c[1]), this->Corner(v, c[2]) } });
+            { this->Corner(v, c[0]), this->Corner(v, c[1]), this->Corner(v, c[2]) },
+            { this->ClusterOfK(v, c[0]), this->ClusterOfK(v, c[1]), this->ClusterOfK(v, c[2]) } });
         }
       }
     }
     return true;
   }
 
-  // The levels above k: one node per occupied cell, one cluster each, in Morton order.
+  // The levels above k: one node per occupied cell, in Morton order, with the data of the
+  // octree of the level-k cut (BuildCoarseLevels).
   bool MakeStructure()
   {
     const int K = this->K;
@@ -486,8 +507,6 @@ private:
     {
       this->NodeStart[l + 1] = this->NodeStart[l] + static_cast<int64_t>(this->Cells[l].size());
     }
-    const int64_t structure = this->NodeStart[K];
-    this->ClusterStart = this->NodeStart; // one cluster per structure node
     this->TriangleStart.assign(this->L + 2, 0);
     // the structure's triangles, ordered by their owner
     std::vector<int64_t> owner(this->Structure.size());
@@ -506,16 +525,29 @@ private:
     for (int l = K; l <= this->L; ++l)
     {
       this->NodeStart[l + 1] = this->NodeStart[l] + this->NodesBefore[l];
-      this->ClusterStart[l + 1] = this->ClusterStart[l] + this->ClustersBefore[l];
       this->TriangleStart[l + 1] = this->TriangleStart[l] + this->TrianglesBefore[l];
     }
+    // the first point and the first cluster of each level-k cell, by its Morton index
+    this->CellFirstPoint.assign(size_t(1) << (3 * K), -1);
+    this->CellFirstCluster.assign(size_t(1) << (3 * K), -1);
+    for (size_t i = 0; i < this->CellsK.size(); ++i)
+    {
+      this->CellFirstPoint[this->CellsK[i]] = this->CellsKFirstPoint[i];
+      this->CellFirstCluster[this->CellsK[i]] = this->CellsKFirstCluster[i];
+    }
+    if (!this->BuildCoarseLevels())
+    {
+      return false;
+    }
+    this->LayOutStructureClusters();
+    const int64_t structure = this->NodeStart[K];
     this->Made.NumberOfNodes = this->NodeStart[this->L + 1];
     this->Made.NumberOfClusters = this->ClusterStart[this->L + 1];
     this->Made.NumberOfPoints = this->PointsBefore;
     this->Made.NumberOfTriangles = this->TriangleStart[this->L + 1];
     this->Made.FinestLevel = this->L;
-    this->Made.CoarsestDrawnLevel = K;
-    this->Made.NumberOfStructureNodes = structure;
+    this->Made.CoarsestDrawnLevel = this->Made.StructureOnly.empty() ? 0 : K;
+    this->Made.NumberOfStructureNodes = this->Made.StructureOnly.empty() ? 0 : structure;
     this->Made.NumberOfStructureTriangles = this->TriangleStart[K];
     for (int64_t count : { this->Made.NumberOfNodes, this->Made.NumberOfClusters,
            this->Made.NumberOfPoints, this->Made.NumberOfTriangles })
@@ -525,12 +557,6 @@ private:
         return this->Fail("the octree has more than 2^31 - 1 nodes, clusters, points or "
                           "triangles: too large for one octree file");
       }
-    }
-    // the first point of each level-k cell, by its Morton index
-    this->CellFirstPoint.assign(size_t(1) << (3 * K), -1);
-    for (size_t i = 0; i < this->CellsK.size(); ++i)
-    {
-      this->CellFirstPoint[this->CellsK[i]] = this->CellsKFirstPoint[i];
     }
     return this->MakeStructureArrays(owner, order);
   }
@@ -545,6 +571,201 @@ private:
   int64_t ResolveCorner(uint64_t packed) const
   {
     return this->CellFirstPoint[packed >> 32] + int64_t(packed & 0xffffffffu);
+  }
+
+  /// A packed level-k cluster (ClusterOfK) as its index among the clusters of level k.
+  int64_t ResolveCluster(uint64_t packed) const
+  {
+    return this->CellFirstCluster[packed >> 32] + int64_t(packed & 0xffffffffu);
+  }
+
+  /// Tuples `rows` (sorted) of a part file of level k, `bytes` each, read block by block.
+  bool PickTuples(int m, size_t bytes, const std::vector<int64_t>& rows, void* out)
+  {
+    const std::string path = this->PartFile(m, 0);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+    {
+      return this->Fail(SystemError("cannot open the temporary file", path));
+    }
+    constexpr int64_t Block = 65536;
+    std::vector<char> block(Block * bytes);
+    int64_t loaded = -1;
+    bool ok = true;
+    for (size_t i = 0; i < rows.size() && ok; ++i)
+    {
+      const int64_t b = rows[i] / Block;
+      if (b != loaded)
+      {
+        const ssize_t got = ::pread(fd, block.data(), block.size(), off_t(b * Block * bytes));
+        ok = got >= ssize_t((rows[i] - b * Block + 1) * bytes) ||
+          this->Fail(got < 0 ? SystemError("cannot read the temporary file", path)
+                             : "the temporary file " + path + " is shorter than written");
+        loaded = b;
+      }
+      if (ok)
+      {
+        std::memcpy(
+          static_cast<char*>(out) + i * bytes, block.data() + (rows[i] - b * Block) * bytes, bytes);
+      }
+    }
+    ::close(fd);
+    return ok;
+  }
+
+  /**
+   * The levels above k, built from the level-k cut: a mesh whose points are the level-k
+   * clusters its triangles use (vertices, nudged into their cells, and normals) and whose
+   * triangles are the structure triangles (those joining three level-k cells: every triangle
+   * a cut above k can draw), built in memory with the agreed root cube and k as its finest
+   * level. Its nodes above k give the structure nodes their vertices and clusters, the cluster
+   * tree over level k, and cones, errors and flags (MakeStructureArrays). A build that fails
+   * (no memory for it) leaves the levels above k as structure only, the reason in the report.
+   */
+  bool BuildCoarseLevels()
+  {
+    std::vector<int64_t>& used = this->CoarseClusters;
+    for (const StructureTriangle& t : this->Structure)
+    {
+      for (uint64_t c : t.Clusters)
+      {
+        used.push_back(this->ResolveCluster(c));
+      }
+    }
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    if (used.empty())
+    {
+      return true; // no triangle is drawn above k: nothing to build
+    }
+    const size_t n = used.size();
+    std::vector<float> vertex(3 * n), normal(3 * n);
+    std::vector<int32_t> node(n);
+    if (!this->PickTuples(MClusterVertex, 12, used, vertex.data()) ||
+      !this->PickTuples(MClusterNormal, 12, used, normal.data()) ||
+      !this->PickTuples(MClusterNode, 4, used, node.data()))
+    {
+      return false;
+    }
+    // each cluster's vertex inside its level-k cell, so that the build finds it there
+    std::vector<double> points(3 * n);
+    const double edge = this->Agreed.RootEdge / double(1u << this->K);
+    for (size_t j = 0; j < n; ++j)
+    {
+      uint32_t xyz[3];
+      MortonDecode(this->CellsK[node[j]], xyz);
+      for (int a = 0; a < 3; ++a)
+      {
+        const double lo = edge * (xyz[a] + 1e-3), hi = edge * (xyz[a] + 1 - 1e-3);
+        points[3 * j + a] =
+          this->Agreed.RootOrigin[a] + std::min(hi, std::max(lo, double(vertex[3 * j + a])));
+      }
+    }
+    std::vector<int64_t> triangles(3 * this->Structure.size());
+    for (size_t t = 0; t < this->Structure.size(); ++t)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        const int64_t g = this->ResolveCluster(this->Structure[t].Clusters[c]);
+        triangles[3 * t + c] = std::lower_bound(used.begin(), used.end(), g) - used.begin();
+      }
+    }
+    BuildInput in;
+    in.NumberOfPoints = static_cast<int64_t>(n);
+    in.Points = points.data();
+    in.NumberOfTriangles = static_cast<int64_t>(this->Structure.size());
+    in.Triangles = triangles.data();
+    in.PointNormals = normal.data();
+    BuildParameters bp;
+    bp.FinestLevel = this->K;
+    bp.Rule = this->Params.Rule;
+    bp.MemoryLimit = 2.0 * this->Params.MemoryLimit; // as a piece's (BuildPiece)
+    bp.HasRootCube = true;
+    std::copy(this->Agreed.RootOrigin, this->Agreed.RootOrigin + 3, bp.RootOrigin);
+    bp.RootEdge = this->Agreed.RootEdge;
+    const BuildResult built =
+      BuildOctree(in, bp, this->Coarse.MakeAllocator(), this->Params.Parallel);
+    if (!built.Ok)
+    {
+      this->Made.StructureOnly = "the octree of the level-" + std::to_string(this->K) +
+        " cut could not be built: " + built.Error;
+      return true;
+    }
+    const OctreeView& cv = this->CoarseView = this->Coarse.View(built);
+    this->CoarsePointOf.assign(n, -1);
+    for (int64_t i = 0; i < cv.NumberOfPoints; ++i)
+    {
+      this->CoarsePointOf[cv.InputPointId[i]] = i;
+    }
+    // the structure node of each of its nodes above k, and the other way
+    this->CoarseNodeOf.assign(this->NodeStart[this->K], -1);
+    this->StructureOfCoarse.assign(cv.NumberOfNodes, -1);
+    for (int64_t c = 0; c < cv.NumberOfNodes && cv.Level[c] < this->K; ++c)
+    {
+      int xyz[3];
+      cv.CellCoordinates(c, xyz);
+      const uint64_t cell = MortonEncode(xyz[0], xyz[1], xyz[2]);
+      const int64_t s = this->StructureNode(cv.Level[c], cell);
+      const std::vector<uint64_t>& cells = this->Cells[cv.Level[c]];
+      if (s >= this->NodeStart[cv.Level[c] + 1] || cells[s - this->NodeStart[cv.Level[c]]] != cell)
+      {
+        return this->Fail("the octree of the level-" + std::to_string(this->K) +
+          " cut has a cell the pieces do not");
+      }
+      this->CoarseNodeOf[s] = c;
+      this->StructureOfCoarse[c] = s;
+    }
+    this->HasCoarse = true;
+    return true;
+  }
+
+  /// The structure's clusters: those of the coarse octree's node of each cell, one where it
+  /// has none; then each level's first cluster.
+  void LayOutStructureClusters()
+  {
+    const int64_t structure = this->NodeStart[this->K];
+    this->StructureFirstCluster.assign(structure + 1, 0);
+    for (int64_t s = 0; s < structure; ++s)
+    {
+      const int64_t c = this->HasCoarse ? this->CoarseNodeOf[s] : -1;
+      this->StructureFirstCluster[s + 1] = this->StructureFirstCluster[s] +
+        (c < 0 ? 1 : this->CoarseView.ClusterEnd(c) - this->CoarseView.FirstCluster[c]);
+    }
+    this->ClusterStart.assign(this->L + 2, 0);
+    for (int l = 0; l <= this->K; ++l)
+    {
+      this->ClusterStart[l] = this->StructureFirstCluster[this->NodeStart[l]];
+    }
+    for (int l = this->K; l <= this->L; ++l)
+    {
+      this->ClusterStart[l + 1] = this->ClusterStart[l] + this->ClustersBefore[l];
+    }
+  }
+
+  /// A cluster of the coarse octree (above k) as its index in the file.
+  int64_t CoarseClusterInFile(int64_t c) const
+  {
+    const OctreeView& cv = this->CoarseView;
+    const int64_t node = cv.ClusterNode[c];
+    return this->StructureFirstCluster[this->StructureOfCoarse[node]] + c - cv.FirstCluster[node];
+  }
+
+  /// The parent (a cluster of level k - 1) of cluster `g` of level k, in the file, whose cell
+  /// is `cell`: the coarse octree's, or the first cluster of the parent cell's node.
+  int64_t ParentOfClusterK(int64_t g, uint64_t cell) const
+  {
+    const std::vector<int64_t>& used = this->CoarseClusters;
+    const auto it = std::lower_bound(used.begin(), used.end(), g);
+    if (this->HasCoarse && it != used.end() && *it == g)
+    {
+      const int64_t p = this->CoarsePointOf[it - used.begin()];
+      if (p >= 0)
+      {
+        return this->CoarseClusterInFile(
+          this->CoarseView.ClusterParent[this->CoarseView.PointCluster[p]]);
+      }
+    }
+    return this->StructureFirstCluster[this->StructureNode(this->K - 1, cell >> 3)];
   }
 
   template <typename T>
@@ -573,13 +794,54 @@ private:
     return got == 12 || this->Fail(SystemError("cannot read the temporary file", path));
   }
 
+  /// What a node's parent takes from it: its cone, flags and material ranges, and the largest
+  /// shape error of level k inside it.
+  struct ChildData
+  {
+    float Axis[3];
+    float Angle;
+    float ErrorK;
+    float Diffuse[2];
+    float Specular[2];
+    uint8_t Flags;
+  };
+
+  /// The ChildData of level k's nodes, from their part files.
+  bool ReadLevelKChildData(std::vector<ChildData>* out)
+  {
+    const int64_t nodes = this->NodesBefore[this->K];
+    std::vector<float> axis, angle, error, diffuse, specular;
+    std::vector<uint8_t> flags;
+    if (!this->ReadPart(this->PartFile(MConeAxis, 0), 3 * nodes, &axis) ||
+      !this->ReadPart(this->PartFile(MConeAngle, 0), nodes, &angle) ||
+      !this->ReadPart(this->PartFile(MShapeError, 0), nodes, &error) ||
+      !this->ReadPart(this->PartFile(MDiffuseRange, 0), 2 * nodes, &diffuse) ||
+      !this->ReadPart(this->PartFile(MSpecularRange, 0), 2 * nodes, &specular) ||
+      !this->ReadPart(this->PartFile(MFlags, 0), nodes, &flags))
+    {
+      return false;
+    }
+    out->resize(static_cast<size_t>(nodes));
+    for (int64_t n = 0; n < nodes; ++n)
+    {
+      ChildData& d = (*out)[n];
+      std::copy(&axis[3 * n], &axis[3 * n] + 3, d.Axis);
+      d.Angle = angle[n];
+      d.ErrorK = error[n];
+      std::copy(&diffuse[2 * n], &diffuse[2 * n] + 2, d.Diffuse);
+      std::copy(&specular[2 * n], &specular[2 * n] + 2, d.Specular);
+      d.Flags = flags[n];
+    }
+    return true;
+  }
+
   bool MakeStructureArrays(const std::vector<int64_t>& owner, const std::vector<size_t>& order)
   {
     const int K = this->K;
     const int64_t structure = this->NodeStart[K];
     std::vector<uint8_t> level(structure), mask(structure, 0), flags(structure, 0);
     std::vector<int32_t> parent(structure), firstChild(structure), firstPoint(structure),
-      cluster(structure);
+      firstCluster(structure);
     std::vector<int64_t> firstTriangle(structure, 0);
     std::vector<float> vertex(3 * structure), axis(3 * structure), angle(structure, float(M_PI)),
       error(structure), thickness(structure), diffuse(2 * structure, 1.0f),
@@ -589,9 +851,9 @@ private:
     {
       ++owned[o + 1];
     }
+    // the tree, points and owned triangles, top-down
     for (int l = 0; l < K; ++l)
     {
-      const double edge = this->Agreed.RootEdge / double(1u << l);
       const std::vector<uint64_t>& finer = l + 1 < K ? this->Cells[l + 1] : this->CellsK;
       size_t child = 0;
       for (size_t i = 0; i < this->Cells[l].size(); ++i)
@@ -613,17 +875,94 @@ private:
         const uint64_t kCell = c << (3 * (K - l));
         const auto it = std::lower_bound(this->CellsK.begin(), this->CellsK.end(), kCell);
         firstPoint[n] = static_cast<int32_t>(this->CellsKFirstPoint[it - this->CellsK.begin()]);
-        // a point of the surface inside the cell, with its normal: where a corner goes when the
-        // frustum culls the cell (its triangles leave the view towards the surface)
+        firstCluster[n] = static_cast<int32_t>(this->StructureFirstCluster[n]);
+        firstTriangle[n] = owned[n];
+        owned[n + 1] += owned[n];
+      }
+    }
+    // the cells' data, bottom-up: the coarse octree's where it has the cell, and what the
+    // children bound
+    std::vector<ChildData> kData, data(structure);
+    if (!this->ReadLevelKChildData(&kData))
+    {
+      return false;
+    }
+    const OctreeView& cv = this->CoarseView;
+    for (int64_t n = structure - 1; n >= 0; --n)
+    {
+      const int64_t c = this->HasCoarse ? this->CoarseNodeOf[n] : -1;
+      if (c >= 0)
+      {
+        std::copy(&cv.Vertex[3 * c], &cv.Vertex[3 * c] + 3, &vertex[3 * n]);
+        std::copy(&cv.ConeAxis[3 * c], &cv.ConeAxis[3 * c] + 3, &axis[3 * n]);
+        angle[n] = cv.ConeAngle[c];
+      }
+      else
+      {
+        // a point of the surface inside the cell, with its normal: where a corner goes when
+        // the frustum culls the cell (its triangles leave the view towards the surface)
         if (!this->ReadPoint(MPoints, firstPoint[n], &vertex[3 * n]) ||
           !this->ReadPoint(MNormals, firstPoint[n], &axis[3 * n]))
         {
           return false;
         }
-        error[n] = thickness[n] = static_cast<float>(edge * std::sqrt(3.0));
-        cluster[n] = static_cast<int32_t>(n);
-        firstTriangle[n] = owned[n];
-        owned[n + 1] += owned[n];
+      }
+      float errorK = 0;
+      uint8_t boundary = 0;
+      diffuse[2 * n] = specular[2 * n] = std::numeric_limits<float>::max();
+      diffuse[2 * n + 1] = specular[2 * n + 1] = -std::numeric_limits<float>::max();
+      for (int i = 0; i < 8; ++i)
+      {
+        if (!(mask[n] >> i & 1))
+        {
+          continue;
+        }
+        const int64_t ch = firstChild[n] + __builtin_popcount(mask[n] & ((1u << i) - 1));
+        const ChildData& d = ch >= structure ? kData[ch - structure] : data[ch];
+        const double dot = double(axis[3 * n]) * d.Axis[0] + double(axis[3 * n + 1]) * d.Axis[1] +
+          double(axis[3 * n + 2]) * d.Axis[2];
+        angle[n] = std::max(
+          angle[n], float(std::acos(std::min(1.0, std::max(-1.0, dot))) + double(d.Angle)));
+        errorK = std::max(errorK, d.ErrorK);
+        boundary |= d.Flags & NodeBoundary;
+        diffuse[2 * n] = std::min(diffuse[2 * n], d.Diffuse[0]);
+        diffuse[2 * n + 1] = std::max(diffuse[2 * n + 1], d.Diffuse[1]);
+        specular[2 * n] = std::min(specular[2 * n], d.Specular[0]);
+        specular[2 * n + 1] = std::max(specular[2 * n + 1], d.Specular[1]);
+      }
+      angle[n] = std::min(angle[n], float(M_PI));
+      const double diagonal = this->Agreed.RootEdge / double(1u << level[n]) * std::sqrt(3.0);
+      error[n] = c >= 0 ? cv.ShapeError[c] + errorK : float(diagonal);
+      thickness[n] = c >= 0 ? cv.Thickness[c] : float(diagonal);
+      flags[n] = static_cast<uint8_t>((c >= 0 ? cv.Flags[c] & NodeTopologySafe : 0) | boundary);
+      ChildData& mine = data[n];
+      std::copy(&axis[3 * n], &axis[3 * n] + 3, mine.Axis);
+      mine.Angle = angle[n];
+      mine.ErrorK = errorK;
+      std::copy(&diffuse[2 * n], &diffuse[2 * n] + 2, mine.Diffuse);
+      std::copy(&specular[2 * n], &specular[2 * n] + 2, mine.Specular);
+      mine.Flags = flags[n];
+    }
+    // the structure's clusters: the coarse octree's, or one per cell at its node's vertex
+    const int64_t clusters = this->StructureFirstCluster[structure];
+    std::vector<int32_t> clusterNode(clusters), clusterParent(clusters);
+    std::vector<float> clusterVertex(3 * clusters), clusterNormal(3 * clusters);
+    for (int64_t n = 0; n < structure; ++n)
+    {
+      const int64_t c = this->HasCoarse ? this->CoarseNodeOf[n] : -1;
+      const int64_t first = this->StructureFirstCluster[n];
+      const int64_t count = this->StructureFirstCluster[n + 1] - first;
+      for (int64_t i = 0; i < count; ++i)
+      {
+        const int64_t at = first + i;
+        clusterNode[at] = static_cast<int32_t>(n);
+        const float* v = c >= 0 ? &cv.ClusterVertex[3 * (cv.FirstCluster[c] + i)] : &vertex[3 * n];
+        const float* m = c >= 0 ? &cv.ClusterNormal[3 * (cv.FirstCluster[c] + i)] : &axis[3 * n];
+        std::copy(v, v + 3, &clusterVertex[3 * at]);
+        std::copy(m, m + 3, &clusterNormal[3 * at]);
+        clusterParent[at] = static_cast<int32_t>(level[n] == 0 ? -1
+            : c >= 0 ? this->CoarseClusterInFile(cv.ClusterParent[cv.FirstCluster[c] + i])
+                     : this->StructureFirstCluster[parent[n]]);
       }
     }
     auto nodePart = [&](int m) -> Part {
@@ -658,7 +997,7 @@ private:
         case MFirstTriangle:
           return MemoryPart(firstTriangle);
         default:
-          return MemoryPart(cluster); // FirstCluster
+          return MemoryPart(firstCluster);
       }
     };
     this->Parts.assign(MemberCount, {});
@@ -666,11 +1005,10 @@ private:
     {
       this->Parts[m].push_back(nodePart(m));
     }
-    // structure clusters: one per node, its parent the parent node's
-    this->Parts[MClusterNode].push_back(MemoryPart(cluster));
-    this->Parts[MClusterParent].push_back(MemoryPart(parent));
-    this->Parts[MClusterVertex].push_back(MemoryPart(vertex));
-    this->Parts[MClusterNormal].push_back(MemoryPart(axis));
+    this->Parts[MClusterNode].push_back(MemoryPart(clusterNode));
+    this->Parts[MClusterParent].push_back(MemoryPart(clusterParent));
+    this->Parts[MClusterVertex].push_back(MemoryPart(clusterVertex));
+    this->Parts[MClusterNormal].push_back(MemoryPart(clusterNormal));
     // structure triangles
     std::vector<int32_t> triangles(3 * order.size());
     for (size_t t = 0; t < order.size(); ++t)
@@ -729,15 +1067,16 @@ private:
       file(MClusterNode, Shift::Base, this->NodeStart[l], clusters);
       if (l == K)
       {
-        // level k's clusters: the structure cluster of their node's parent
+        // level k's clusters: their parents in the coarse octree (ParentOfClusterK)
         std::vector<int32_t> nodeInLevel, parent;
         if (!this->ReadPart(this->PartFile(MClusterParent, 0), clusters, &nodeInLevel))
         {
           return false;
         }
-        for (int32_t n : nodeInLevel)
+        for (size_t g = 0; g < nodeInLevel.size(); ++g)
         {
-          parent.push_back(static_cast<int32_t>(this->StructureNode(K - 1, this->CellsK[n] >> 3)));
+          parent.push_back(
+            static_cast<int32_t>(this->ParentOfClusterK(int64_t(g), this->CellsK[nodeInLevel[g]])));
         }
         this->Parts[MClusterParent].push_back(MemoryPart(parent));
       }
@@ -877,7 +1216,7 @@ private:
     std::copy(this->Agreed.RootOrigin, this->Agreed.RootOrigin + 3, header.Origin);
     header.RootEdge = this->Agreed.RootEdge;
     header.FinestLevel = this->L;
-    header.CoarsestDrawnLevel = this->K;
+    header.CoarsestDrawnLevel = this->Made.CoarsestDrawnLevel;
     header.Nodes = this->Made.NumberOfNodes;
     header.Points = this->Made.NumberOfPoints;
     header.Triangles = this->Made.NumberOfTriangles;
@@ -934,10 +1273,18 @@ private:
   std::vector<uint64_t> CellOfK;
   // the whole
   std::vector<uint64_t> CellsK;
-  std::vector<int64_t> CellsKFirstPoint;
+  std::vector<int64_t> CellsKFirstPoint, CellsKFirstCluster;
   std::vector<StructureTriangle> Structure;
   std::vector<std::vector<uint64_t>> Cells; // the structure's cells per level
-  std::vector<int64_t> NodeStart, ClusterStart, TriangleStart, CellFirstPoint;
+  std::vector<int64_t> NodeStart, ClusterStart, TriangleStart, CellFirstPoint, CellFirstCluster;
+  // the levels above k: the coarse octree (BuildCoarseLevels), the level-k clusters its points
+  // stand for (sorted) and its point of each (-1: dropped), its node of each structure node and
+  // the other way (-1: none), and each structure node's first cluster in the file
+  OctreeStorage Coarse;
+  OctreeView CoarseView;
+  bool HasCoarse = false;
+  std::vector<int64_t> CoarseClusters, CoarsePointOf, CoarseNodeOf, StructureOfCoarse,
+    StructureFirstCluster;
   std::vector<std::vector<Part>> Parts;
 };
 

@@ -14,18 +14,27 @@
  * (plodPartition.h), so levels k and finer are the whole mesh's octree, node for node:
  * vertices, clusters, cones, shape errors, flags, points and the triangles each node owns.
  *
- * The levels above k hold structure only: one node per occupied cell (the ancestors of the
- * level-k cells, as in the whole mesh's octree) with one cluster each, and the triangles they
- * own (those whose corners' cells meet only above k), taken from the piece that owns their lead
- * corner. Their vertices, cones and errors are placeholders (the cell's first point of the
- * surface and its normal, a cone of pi, an error and a thickness of the cell's diagonal), and
- * the file's coarsest drawn level is k, so a selector refines them at once
- * (vtkMultiscaleOctree::GetCoarsestDrawnLevel). The differences from the whole mesh's octree
- * are named: a cut stops at level k at the coarsest; a cell above k that the frustum culls
- * (kept in the cut) takes its triangles' corners to that point, not to the whole's vertex;
- * the input point ids are -1 (the pieces renumber the points); the non-manifold and misoriented
- * edge counts are sums over the pieces (edges near a piece's border may be counted twice: zero
- * stays zero); the boundary-edge count is the partition's.
+ * The levels above k: one node per occupied cell (the ancestors of the level-k cells, as in
+ * the whole mesh's octree) and the triangles they own (those whose corners lie in three level-k
+ * cells), taken from the piece that owns their lead corner. Those triangles, with their corners
+ * at the clusters of level k, are the level-k cut, every triangle a cut above k can draw: an
+ * octree of that mesh alone (BuildOctree over the level-k clusters as points, the agreed root
+ * cube, finest level k) gives the cells above k their clusters (the connected pieces of the cut
+ * inside them), the clusters' vertices (the vertex rule over the cut's planes) and normals, the
+ * cluster tree from level k up, the node vertices and the topology flags and thickness. What
+ * the children bound is added: the cone holds the level-k cones inside (SRCC eq. (2)), the
+ * shape error adds the largest level-k error inside to the cut's own, the material ranges and
+ * the boundary flag are the children's. A cell the cut's octree lacks (only triangles of finer
+ * levels inside) keeps one cluster at its first surface point, a cone of pi, an error and a
+ * thickness of its diagonal. The differences from the whole mesh's octree are named and
+ * measured (docs/benchmarks.md, "The levels above the pieces"): above k, vertices, cones,
+ * errors, flags and clusters come from the level-k cut rather than the input (a cut there draws
+ * the same triangles with corners moved a few percent of a cell); the input point ids are -1
+ * (the pieces renumber the points); the non-manifold and misoriented edge counts are sums over
+ * the pieces (edges near a piece's border may be counted twice: zero stays zero); the
+ * boundary-edge count is the partition's. Where the cut's octree cannot be built (more than the
+ * memory limit), the levels above k hold structure only and the file's coarsest drawn level is
+ * k (AssemblyReport::StructureOnly says why), as a distributed build's are.
  *
  * The file is written by WriteOctreeFile from the temporary files (FileArray::Values), never
  * rewriting the target in place.
@@ -70,9 +79,12 @@ struct AssemblyReport
   int64_t NumberOfTriangles = 0;
   int FinestLevel = 0;
   int CoarsestDrawnLevel = 0;
-  /// Nodes above the coarsest drawn level (structure only).
+  /// Nodes above the coarsest drawn level (structure only; none unless StructureOnly says why).
   int64_t NumberOfStructureNodes = 0;
-  /// Triangles owned by those nodes.
+  /// Empty when the levels above k were built from the level-k cut; else why they hold
+  /// structure only (the coarsest drawn level is then k).
+  std::string StructureOnly;
+  /// Triangles owned by the nodes above k (taken from the pieces as they are).
   int64_t NumberOfStructureTriangles = 0;
   /// The most bytes the assembly's own temporary files held (the pieces' not counted).
   int64_t PeakTemporaryBytes = 0;

@@ -186,11 +186,12 @@ int main(int argc, char* argv[])
   const int64_t usable = pieces.GetNumberOfUsableTriangles();
   std::printf("built: %s, split %.1f s + build and write %.1f s = %.1f s (%.2f M input "
               "triangles/s), peak %.0f MiB, temporary disk %.0f MiB, file %.1f bytes per "
-              "input triangle, %lld structure nodes above level %d\n",
+              "input triangle, levels above %d %s%s\n",
     save.c_str(), splitSeconds, Seconds(built), total, double(usable) / total / 1e6,
     PeakResidentMiB(),
     double(pieces.GetPeakTemporaryBytes() + report.PeakTemporaryBytes) / 1048576.0,
-    double(report.FileBytes) / double(std::max<int64_t>(1, usable)),
-    static_cast<long long>(report.NumberOfStructureNodes), report.CoarsestDrawnLevel);
+    double(report.FileBytes) / double(std::max<int64_t>(1, usable)), pieces.GetOwnershipLevel(),
+    report.StructureOnly.empty() ? "built from its cut" : "structure only: ",
+    report.StructureOnly.c_str());
   return 0;
 }
