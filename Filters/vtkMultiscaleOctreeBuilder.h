@@ -181,8 +181,9 @@ public:
    * coarser ones are built from the octree of the cut at the pieces' level
    * (plodPieceAssembly.h says how they differ from the in-memory build's), or, where that
    * cannot be built, hold structure only, with a warning
-   * (vtkMultiscaleOctree::GetCoarsestDrawnLevel). FinestLevel, the vertex rule and the threads
-   * apply; the root cube is the file's own. An existing file is replaced only once the new one is
+   * (vtkMultiscaleOctree::GetCoarsestDrawnLevel). The vertex rule and the threads apply; the
+   * root cube and the finest level are the file's own (the pieces' automatic level: a
+   * FinestLevel that differs is not used, with a warning). An existing file is replaced only once the new one is
    * complete and verified.
    */
   vtkSetFilePathMacro(OctreeFileName);

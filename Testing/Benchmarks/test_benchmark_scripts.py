@@ -9,6 +9,7 @@ import tempfile
 import unittest
 
 from vtkmodules.vtkFiltersSources import vtkSphereSource
+from vtkmodules.vtkIOPLY import vtkPLYWriter
 
 from perceptual_lod import vtkMultiscaleOctreeBuilder, vtkMultiscaleOctreeWriter
 
@@ -68,6 +69,27 @@ class BenchmarkScriptsTest(unittest.TestCase):
         out = self.run_script('patches_orbit.py', self.octree, '--frames', '4', '--budget',
                               '500', '--exact')
         self.assertIn('patches median', out)
+
+    @unittest.skipUnless(os.environ.get('DISPLAY'), 'needs a display (xvfb-run)')
+    def test_pieces_coarse(self):
+        ply = os.path.join(self.folder.name, 'sphere.ply')
+        pieces = os.path.join(self.folder.name, 'sphere-pieces.plod')
+        sphere = vtkSphereSource()  # fine enough for a finest level below the pieces' (6)
+        sphere.SetThetaResolution(400)
+        sphere.SetPhiResolution(400)
+        writer = vtkPLYWriter()
+        writer.SetInputConnection(sphere.GetOutputPort())
+        writer.SetFileName(ply)
+        self.assertEqual(writer.Write(), 1)
+        builder = vtkMultiscaleOctreeBuilder()
+        builder.SetFileName(ply)
+        builder.SetOctreeFileName(pieces)
+        builder.BuildInPiecesOn()
+        builder.Update()
+        self.assertGreater(builder.GetOutput().GetNumberOfNodes(), 0)
+        out = self.run_script('pieces_coarse.py', ply, pieces)
+        self.assertIn('| far/64 |', out)
+        self.assertIn('coarsest drawn level 0', out)
 
     def test_file_layouts(self):
         out = self.run_script('file_layouts.py', self.octree, '--repeats', '1', '--tmp',
