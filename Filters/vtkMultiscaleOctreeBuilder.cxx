@@ -806,6 +806,7 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
   assembly.Progress = progress;
   assembly.Parallel = split.Parallel;
   assembly.Layout = this->CompactOctreeFile ? plod::FileLayout::Compact : plod::FileLayout::Mapped;
+  assembly.RemovePiecesAsBuilt = true; // the pieces are built once
   plod::AssemblyReport report;
   if (!plod::WriteOctreeFileFromPieces(pieces, octreeFile, assembly, &report, &why))
   {

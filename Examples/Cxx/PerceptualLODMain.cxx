@@ -79,13 +79,15 @@ void PrintPiecesEstimate(
   const plod::PLYSummary& header, const std::string& save, double limitMiB, bool compact)
 {
   const double MiB = 1024.0 * 1024.0;
-  // temporary disk at its peak: the points and triangles (as read, then in pieces with their
-  // halo), and the kept parts of the octrees, about the file's size
+  // temporary disk at its peak: while splitting, the points and triangles (as read, then in
+  // pieces with their halo); while building, the kept parts of the octrees (about the file's
+  // size) beside the pieces not yet built (each piece's file is removed once read)
   const double vertexBytes = (plod::PLYHasDoubleCoordinates(header) ? 24.0 : 12.0) +
     (plod::PLYHasNormals(header) ? 12.0 : 0.0);
   const double file = plod::EstimateOctreeBytes(header.NumberOfVertices, header.NumberOfFaces);
   const double temporary =
-    vertexBytes * double(header.NumberOfVertices) + 40.0 * double(header.NumberOfFaces) + file;
+    std::max(vertexBytes * double(header.NumberOfVertices) + 40.0 * double(header.NumberOfFaces),
+      1.15 * file);
   std::printf("building in pieces within %.0f MiB into %s: about %.0f MiB of temporary files "
               "beside it, a file of about %.0f MiB%s\n",
     limitMiB, save.c_str(), temporary / MiB, file / MiB,

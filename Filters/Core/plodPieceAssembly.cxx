@@ -71,7 +71,7 @@ struct StructureTriangle
 class Assembler
 {
 public:
-  Assembler(const PLYPieces& pieces, const AssemblyParameters& params, std::string* why)
+  Assembler(PLYPieces& pieces, const AssemblyParameters& params, std::string* why)
     : Pieces(pieces)
     , Params(params)
     , Why(why)
@@ -111,6 +111,7 @@ public:
       {
         return false;
       }
+      this->NoteTemporaryBytes();
     }
     if (!this->ClosePartFiles() || !this->MakeStructure() || !this->WriteFile(path))
     {
@@ -174,9 +175,20 @@ private:
     for (Appender& a : this->Out)
     {
       ok = a.Close(this->Why) && ok;
-      this->Made.PeakTemporaryBytes += a.Size();
     }
+    this->NoteTemporaryBytes();
     return ok;
+  }
+
+  /// The most the pieces' files and the parts' have held at once, so far.
+  void NoteTemporaryBytes()
+  {
+    int64_t bytes = this->Pieces.GetTemporaryBytes();
+    for (const Appender& a : this->Out)
+    {
+      bytes += a.Size();
+    }
+    this->Made.PeakTemporaryBytes = std::max(this->Made.PeakTemporaryBytes, bytes);
   }
 
   template <typename Vector>
@@ -213,6 +225,10 @@ private:
     if (!this->Pieces.GetPiece(p, &r, this->Why))
     {
       return false;
+    }
+    if (this->Params.RemovePiecesAsBuilt)
+    {
+      this->Pieces.RemovePiece(p);
     }
     LargeVector<float> normals(r.Normals.begin(), r.Normals.end());
     LargeVector<double>().swap(r.Normals);
@@ -1254,7 +1270,7 @@ private:
     return this->Report(1, "writing the file");
   }
 
-  const PLYPieces& Pieces;
+  PLYPieces& Pieces;
   const AssemblyParameters& Params;
   std::string* Why;
   const int K;
@@ -1291,7 +1307,7 @@ private:
 } // namespace
 
 //------------------------------------------------------------------------------
-bool WriteOctreeFileFromPieces(const PLYPieces& pieces, const std::string& path,
+bool WriteOctreeFileFromPieces(PLYPieces& pieces, const std::string& path,
   const AssemblyParameters& parameters, AssemblyReport* report, std::string* why)
 {
   std::string message;

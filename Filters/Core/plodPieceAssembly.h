@@ -65,6 +65,10 @@ struct AssemblyParameters
   ParallelFor Parallel = SerialFor;
   /// How the file stores its arrays (FileLayout::Compact: compressed, see plodOctreeFile.h).
   FileLayout Layout = FileLayout::Mapped;
+  /// Remove each piece's temporary file once it is read (PLYPieces::RemovePiece), so that the
+  /// temporary disk holds the pieces not yet built beside the parts kept so far, not every piece
+  /// to the end. The pieces cannot then be assembled again.
+  bool RemovePiecesAsBuilt = false;
   /// Called with the fraction done of the current step, in [0, 1], and the step's name
   /// ("building the pieces", "writing the file"); return false to abort.
   std::function<bool(double, const char*)> Progress;
@@ -86,7 +90,8 @@ struct AssemblyReport
   std::string StructureOnly;
   /// Triangles owned by the nodes above k (taken from the pieces as they are).
   int64_t NumberOfStructureTriangles = 0;
-  /// The most bytes the assembly's own temporary files held (the pieces' not counted).
+  /// The most bytes the temporary files held at once while the assembly ran: its own and
+  /// what the pieces' still held.
   int64_t PeakTemporaryBytes = 0;
   /// Bytes of the octree file written.
   int64_t FileBytes = 0;
@@ -99,7 +104,7 @@ struct AssemblyReport
  * triangles), an abort or a file that cannot be written; `path` is then left as it was. The
  * temporary files go in the pieces' temporary directory and are removed. Never throws.
  */
-bool WriteOctreeFileFromPieces(const PLYPieces& pieces, const std::string& path,
+bool WriteOctreeFileFromPieces(PLYPieces& pieces, const std::string& path,
   const AssemblyParameters& parameters, AssemblyReport* report, std::string* why);
 
 } // namespace plod

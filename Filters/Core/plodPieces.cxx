@@ -303,6 +303,7 @@ struct PLYPieces::Internals
   std::vector<int64_t> PiecePoints;
   std::vector<int64_t> PieceOwnedCells;
   std::vector<int64_t> PieceHalo;
+  std::vector<char> Removed; // per piece: its file removed (RemovePiece)
   int Pieces = 0;
   int64_t NumberOfPoints = 0;
   int64_t NumberOfTriangles = 0;
@@ -683,6 +684,7 @@ struct PLYPieces::Internals
     int64_t counts[MaxFinestLevel + 2] = {};
     this->PiecePoints.assign(this->Pieces, 0);
     this->PieceHalo.assign(this->Pieces, 0);
+    this->Removed.assign(this->Pieces, 0);
     for (int first = 0; first < this->Pieces; first += MergedAtOnce)
     {
       if (!this->Report(double(first) / double(this->Pieces), split_step::Merging))
@@ -734,6 +736,9 @@ struct PLYPieces::Internals
         }
       }
     }
+    // every piece holds its points: the file's are no longer needed
+    this->RemoveFile(this->PathOf("points"));
+    this->RemoveFile(this->PathOf("normals"));
     if (this->Params.RequestedFinestLevel >= 0)
     {
       this->Agreed.FinestLevel = std::min(this->Params.RequestedFinestLevel, MaxFinestLevel);
@@ -891,6 +896,10 @@ bool PLYPieces::GetPiece(int p, PartitionResult* piece, std::string* why) const
     message = "no piece " + std::to_string(p) + " (the file has " +
       std::to_string(this->GetNumberOfPieces()) + ")";
   }
+  else if (s.Removed[p])
+  {
+    message = "piece " + std::to_string(p) + " was removed";
+  }
   else
   {
     const std::string path = s.PieceFile(p, ".piece");
@@ -942,6 +951,23 @@ int64_t PLYPieces::GetNumberOfUsableTriangles() const
 int64_t PLYPieces::GetPeakTemporaryBytes() const
 {
   return this->Internal->PeakTemporaryBytes;
+}
+
+//------------------------------------------------------------------------------
+int64_t PLYPieces::GetTemporaryBytes() const
+{
+  return this->Internal->TemporaryBytes;
+}
+
+//------------------------------------------------------------------------------
+void PLYPieces::RemovePiece(int p)
+{
+  Internals& s = *this->Internal;
+  if (p >= 0 && p < this->GetNumberOfPieces() && !s.Removed[p])
+  {
+    s.RemoveFile(s.PieceFile(p, ".piece"));
+    s.Removed[p] = 1;
+  }
 }
 
 //------------------------------------------------------------------------------

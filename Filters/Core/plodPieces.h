@@ -28,7 +28,8 @@
  * normal of the one first in the file, a process the one it received first: only then can a
  * piece's normal differ from a rank's.
  * The point file's mapped pages are let go after each pass, so the resident memory stays that
- * of one piece however large the file. Temporary files live in a directory of their own,
+ * of one piece however large the file; the point and triangle files are removed once the pieces
+ * are made, and a piece's file by RemovePiece. Temporary files live in a directory of their own,
  * removed with the object (and when Open fails).
  *
  * @sa plodPartition.h plodPLYRead.h
@@ -118,8 +119,13 @@ public:
   /// Triangles of the file that every piece's build shares out (the file's, less the unusable).
   int64_t GetNumberOfUsableTriangles() const;
 
-  /// The most bytes the temporary files held at once.
+  /// The most bytes the temporary files held at once, and what they hold now.
   int64_t GetPeakTemporaryBytes() const;
+  int64_t GetTemporaryBytes() const;
+
+  /// Removes piece p's temporary file (a build that has read it needs it no more); GetPiece(p)
+  /// then fails, saying so. Nothing for a piece out of range or removed already.
+  void RemovePiece(int p);
   /// The temporary directory (empty before Open and after a failed one).
   const std::string& GetTemporaryDirectory() const;
 

@@ -174,6 +174,7 @@ int main(int argc, char* argv[])
   assembly.Parallel = ThreadFor(threads);
   assembly.Progress = params.Progress;
   assembly.Layout = compact ? plod::FileLayout::Compact : plod::FileLayout::Mapped;
+  assembly.RemovePiecesAsBuilt = true;
   plod::AssemblyReport report;
   const Clock::time_point built = Clock::now();
   if (!plod::WriteOctreeFileFromPieces(pieces, save, assembly, &report, &why))
@@ -189,7 +190,7 @@ int main(int argc, char* argv[])
               "input triangle, levels above %d %s%s\n",
     save.c_str(), splitSeconds, Seconds(built), total, double(usable) / total / 1e6,
     PeakResidentMiB(),
-    double(pieces.GetPeakTemporaryBytes() + report.PeakTemporaryBytes) / 1048576.0,
+    double(std::max(pieces.GetPeakTemporaryBytes(), report.PeakTemporaryBytes)) / 1048576.0,
     double(report.FileBytes) / double(std::max<int64_t>(1, usable)), pieces.GetOwnershipLevel(),
     report.StructureOnly.empty() ? "built from its cut" : "structure only: ",
     report.StructureOnly.c_str());

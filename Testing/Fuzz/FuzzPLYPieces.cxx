@@ -9,7 +9,8 @@
  * ownership level (1 or 2). Checked: nothing crashes or leaks; a refused file leaves no
  * temporary file; every piece's ghost flags and normals match its points and its triangles
  * index them; an octree file, when made, opens with its checksums and passes ValidateOctree,
- * with the file's coarsest drawn level, and the temporary directory is empty afterwards.
+ * with the coarsest drawn level its report gives (0, or k where the levels above hold
+ * structure only), and the temporary directory is empty afterwards.
  *
  * Build and run: docs/fuzzing.md (`PLOD_FUZZ_TARGET=FuzzPLYPieces bash scripts/run-fuzz.sh`).
  */

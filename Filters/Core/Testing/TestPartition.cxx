@@ -1226,6 +1226,50 @@ TEST(Pieces, TheirLevelsAboveKFollowTheWholeOctree)
   std::remove(sheets.c_str());
 }
 
+/// The bytes of a file.
+std::string FileBytes(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Once split, only the pieces' files remain (the file's points are in them); an assembly that
+// removes each piece as it reads it writes the same octree file with fewer temporary bytes at
+// its peak, leaves the split no file, and a removed piece cannot be read again.
+TEST(Pieces, RemovedAsBuiltTheyLeaveLessOnDiskAndTheSameFile)
+{
+  const std::string tmp = FreshDirectory("pieces-removed");
+  Mesh m = MakeMesh(true, 5);
+  const std::string ply =
+    WritePLY(m, "pieces-removed.ply", plodtest::PLYEncoding::Little, "float", true);
+  std::string files[2];
+  plod::AssemblyReport reports[2];
+  for (int removing = 0; removing < 2; ++removing)
+  {
+    plod::PLYPieces split;
+    ASSERT_EQ(Pieces(ply, 4, 2, tmp, &split).size(), 4u);
+    EXPECT_EQ(CountEntries(split.GetTemporaryDirectory()), 4) << "one file per piece, no more";
+    EXPECT_LT(split.GetTemporaryBytes(), split.GetPeakTemporaryBytes());
+    files[removing] = ::testing::TempDir() + "pieces-removed-" + std::to_string(removing) + ".plod";
+    plod::AssemblyParameters params;
+    params.RemovePiecesAsBuilt = removing;
+    std::string why;
+    ASSERT_TRUE(
+      plod::WriteOctreeFileFromPieces(split, files[removing], params, &reports[removing], &why))
+      << why;
+    EXPECT_EQ(CountEntries(split.GetTemporaryDirectory()), removing ? 0 : 4);
+    EXPECT_EQ(split.GetTemporaryBytes() == 0, bool(removing));
+    plod::PartitionResult piece;
+    EXPECT_EQ(split.GetPiece(1, &piece, &why), !removing);
+    EXPECT_EQ(why, removing ? "piece 1 was removed" : "");
+  }
+  EXPECT_EQ(FileBytes(files[0]), FileBytes(files[1]));
+  EXPECT_LT(reports[1].PeakTemporaryBytes, reports[0].PeakTemporaryBytes);
+  EXPECT_GT(reports[1].PeakTemporaryBytes, 0);
+  std::remove(files[0].c_str());
+  std::remove(files[1].c_str());
+}
+
 // A failed assembly (an abort at each step, a folder that does not exist) leaves the target as
 // it was and removes its own temporary files.
 TEST(Pieces, AFailedOctreeFileLeavesTheTargetAndNoTemporaryFile)

@@ -2205,9 +2205,9 @@ void ExpectPiecesDrawAsTheInCoreBuild(const std::string& ply, int k)
 }
 
 // A PLY file built in pieces into an octree file draws what its in-core build draws from level
-// k on: a generated blob, and the Stanford bunny (a real scan). With the model in view: a cell
-// above level k that the frustum culls is drawn at a point of the surface, not at the whole's
-// vertex.
+// k on, and as many triangles above: a generated blob, and the Stanford bunny (a real scan).
+// With the model in view: a cell above level k that the frustum culls takes its triangles'
+// corners to the file's own vertex of that cell, not to the whole's.
 TEST(MultiscaleOctreeBuilder, AFileBuiltInPiecesDrawsAsItsInCoreBuildFromLevelK)
 {
   auto blob = plodtest::MakeBlob(7, 160, 0.3);

@@ -1317,8 +1317,9 @@ TEST(PerceptualLODSelector, MinimumLevelRefinesEveryCoarserCellButCulledOnes)
 
 TEST(PerceptualLODSelector, OctreesCoarsestDrawnLevelActsAsTheMinimumLevel)
 {
-  // An octree assembled from pieces holds only structure above its coarsest drawn level: the
-  // selector refines those levels as MinimumLevel does, and the larger of the two applies.
+  // An octree assembled from pieces whose levels above the pieces could not be built holds
+  // only structure above its coarsest drawn level: the selector refines those levels as
+  // MinimumLevel does, and the larger of the two applies.
   Pipeline p(plodtest::MakeBlob(8, 40, 0.3), 6);
   p.Selector->SetContourTolerance(4);
   const double eye[3] = { -4, 1, 6 }, focus[3] = { 0.6, 0.2, 0 };
