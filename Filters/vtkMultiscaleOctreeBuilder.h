@@ -183,8 +183,9 @@ public:
    * cannot be built, hold structure only, with a warning
    * (vtkMultiscaleOctree::GetCoarsestDrawnLevel). The vertex rule and the threads apply; the
    * root cube and the finest level are the file's own (the pieces' automatic level: a
-   * FinestLevel that differs is not used, with a warning). An existing file is replaced only once
-   * the new one is complete and verified.
+   * FinestLevel that differs is not used, with a warning). A model whose finest level is
+   * coarser than the pieces' cells (level 6) is split again at its own level. An existing file is
+   * replaced only once the new one is complete and verified.
    */
   vtkSetFilePathMacro(OctreeFileName);
   vtkGetFilePathMacro(OctreeFileName);

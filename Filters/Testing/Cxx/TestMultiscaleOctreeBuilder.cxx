@@ -2226,6 +2226,32 @@ TEST(MultiscaleOctreeBuilder, AFileBuiltInPiecesDrawsAsItsInCoreBuildFromLevelK)
 // With an OctreeFileName, a PLY file too large for the memory limit is built in pieces into that
 // file and the output is the file; BuildInPieces builds that way whatever the size; an abort
 // leaves no file.
+// A model whose finest level is coarser than the pieces' cells (level 6), built in pieces: split
+// again at its own level, it gives the in-core build's tree, not an error.
+TEST(MultiscaleOctreeBuilder, AModelCoarserThanThePiecesCellsIsSplitAtItsOwnLevel)
+{
+  auto blob = plodtest::MakeBlob(3, 20, 0.3);
+  const std::string ply = WritePLYFile(blob, "coarse-pieces", true);
+  const std::string octreeFile = ply + ".plod";
+  vtkNew<vtkMultiscaleOctreeBuilder> inCore;
+  inCore->SetFileName(ply.c_str());
+  inCore->Update();
+  ASSERT_LT(inCore->GetOutput()->GetFinestLevel(), 6) << "the model is not coarse enough";
+  vtkNew<vtkMultiscaleOctreeBuilder> builder;
+  vtkNew<plodtest::ErrorRecorder> errors;
+  builder->AddObserver(vtkCommand::ErrorEvent, errors);
+  builder->SetFileName(ply.c_str());
+  builder->SetOctreeFileName(octreeFile.c_str());
+  builder->BuildInPiecesOn();
+  builder->Update();
+  EXPECT_FALSE(errors->HasError()) << "an error for a coarse model";
+  vtkMultiscaleOctree* out = builder->GetOutput();
+  EXPECT_EQ(out->GetNumberOfNodes(), inCore->GetOutput()->GetNumberOfNodes());
+  EXPECT_EQ(out->GetFinestLevel(), inCore->GetOutput()->GetFinestLevel());
+  std::remove(octreeFile.c_str());
+  std::remove(ply.c_str());
+}
+
 TEST(MultiscaleOctreeBuilder, AFileTooLargeForTheLimitIsBuiltInPiecesIntoTheOctreeFile)
 {
   auto blob = plodtest::MakeBlob(5, 200, 0.3);
