@@ -782,15 +782,7 @@ int vtkMultiscaleOctreeBuilder::BuildFromFileInPieces(vtkMultiscaleOctree* outpu
   split.Parallel = plodvtk::SMPRanges(this->MultiThreaded);
   plod::PLYPieces pieces;
   std::string why;
-  bool opened = pieces.Open(file, split, &why);
-  const int level = pieces.GetAgreement().FinestLevel;
-  if (opened && pieces.GetNumberOfPieces() > 0 && level >= 1 && level < split.OwnershipLevel)
-  {
-    // a model whose finest level is coarser than the pieces' cells: split again at that level
-    split.OwnershipLevel = level;
-    opened = pieces.Open(file, split, &why);
-  }
-  if (!opened)
+  if (!pieces.Open(file, split, &why))
   {
     if (this->GetAbortExecute())
     {

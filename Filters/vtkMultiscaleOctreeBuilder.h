@@ -184,8 +184,8 @@ public:
    * (vtkMultiscaleOctree::GetCoarsestDrawnLevel). The vertex rule and the threads apply; the
    * root cube and the finest level are the file's own (the pieces' automatic level: a
    * FinestLevel that differs is not used, with a warning). A model whose finest level is
-   * coarser than the pieces' cells (level 6) is split again at its own level. An existing file is
-   * replaced only once the new one is complete and verified.
+   * coarser than the pieces' cells (level 6) is split at its own level (plodPieces.h). An existing
+   * file is replaced only once the new one is complete and verified.
    */
   vtkSetFilePathMacro(OctreeFileName);
   vtkGetFilePathMacro(OctreeFileName);

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstring>
 #include <fcntl.h>
-#include <limits>
 #include <map>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -595,7 +594,8 @@ private:
     return this->CellFirstCluster[packed >> 32] + int64_t(packed & 0xffffffffu);
   }
 
-  /// Tuples `rows` (sorted) of a part file of level k, `bytes` each, read block by block.
+  /// Tuples `rows` (sorted) of array m's part file of level k (the points' for a point array),
+  /// `bytes` each, read block by block.
   bool PickTuples(int m, size_t bytes, const std::vector<int64_t>& rows, void* out)
   {
     const std::string path = this->PartFile(m, 0);
@@ -743,7 +743,7 @@ private:
     this->StructureFirstCluster.assign(structure + 1, 0);
     for (int64_t s = 0; s < structure; ++s)
     {
-      const int64_t c = this->HasCoarse ? this->CoarseNodeOf[s] : -1;
+      const int64_t c = this->CoarseNode(s);
       this->StructureFirstCluster[s + 1] = this->StructureFirstCluster[s] +
         (c < 0 ? 1 : this->CoarseView.ClusterEnd(c) - this->CoarseView.FirstCluster[c]);
     }
@@ -757,6 +757,9 @@ private:
       this->ClusterStart[l + 1] = this->ClusterStart[l] + this->ClustersBefore[l];
     }
   }
+
+  /// The coarse octree's node of structure node s; -1 if it has none.
+  int64_t CoarseNode(int64_t s) const { return this->HasCoarse ? this->CoarseNodeOf[s] : -1; }
 
   /// A cluster of the coarse octree (above k) as its index in the file.
   int64_t CoarseClusterInFile(int64_t c) const
@@ -797,28 +800,13 @@ private:
     return part;
   }
 
-  /// Point q's 3 floats of a point array (its part file).
-  bool ReadPoint(int m, int64_t q, float* out)
-  {
-    const std::string path = this->PartFile(m, 0);
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    const ssize_t got = fd < 0 ? -1 : ::pread(fd, out, 12, static_cast<off_t>(12 * q));
-    if (fd >= 0)
-    {
-      ::close(fd);
-    }
-    return got == 12 || this->Fail(SystemError("cannot read the temporary file", path));
-  }
-
-  /// What a node's parent takes from it: its cone, flags and material ranges, and the largest
-  /// shape error of level k inside it.
+  /// What a node's parent takes from it: its cone and flags, and the largest shape error of
+  /// level k inside it.
   struct ChildData
   {
     float Axis[3];
     float Angle;
     float ErrorK;
-    float Diffuse[2];
-    float Specular[2];
     uint8_t Flags;
   };
 
@@ -826,13 +814,11 @@ private:
   bool ReadLevelKChildData(std::vector<ChildData>* out)
   {
     const int64_t nodes = this->NodesBefore[this->K];
-    std::vector<float> axis, angle, error, diffuse, specular;
+    std::vector<float> axis, angle, error;
     std::vector<uint8_t> flags;
     if (!this->ReadPart(this->PartFile(MConeAxis, 0), 3 * nodes, &axis) ||
       !this->ReadPart(this->PartFile(MConeAngle, 0), nodes, &angle) ||
       !this->ReadPart(this->PartFile(MShapeError, 0), nodes, &error) ||
-      !this->ReadPart(this->PartFile(MDiffuseRange, 0), 2 * nodes, &diffuse) ||
-      !this->ReadPart(this->PartFile(MSpecularRange, 0), 2 * nodes, &specular) ||
       !this->ReadPart(this->PartFile(MFlags, 0), nodes, &flags))
     {
       return false;
@@ -844,8 +830,6 @@ private:
       std::copy(&axis[3 * n], &axis[3 * n] + 3, d.Axis);
       d.Angle = angle[n];
       d.ErrorK = error[n];
-      std::copy(&diffuse[2 * n], &diffuse[2 * n] + 2, d.Diffuse);
-      std::copy(&specular[2 * n], &specular[2 * n] + 2, d.Specular);
       d.Flags = flags[n];
     }
     return true;
@@ -859,9 +843,11 @@ private:
     std::vector<int32_t> parent(structure), firstChild(structure), firstPoint(structure),
       firstCluster(structure);
     std::vector<int64_t> firstTriangle(structure, 0);
+    // a build in pieces has no materials (a PLY file's pieces carry none): every cell's ranges
+    // are the builder's uniform reflectances, as the pieces' cells are
     std::vector<float> vertex(3 * structure), axis(3 * structure), angle(structure, float(M_PI)),
-      error(structure), thickness(structure), diffuse(2 * structure, 1.0f),
-      specular(2 * structure, 0.0f);
+      error(structure), thickness(structure), diffuse(2 * structure, BuildInput().UniformDiffuse),
+      specular(2 * structure, BuildInput().UniformSpecular);
     std::vector<int64_t> owned(structure + 1, 0);
     for (int64_t o : owner)
     {
@@ -899,14 +885,27 @@ private:
     // the cells' data, bottom-up: the coarse octree's where it has the cell, and what the
     // children bound
     std::vector<ChildData> kData, data(structure);
-    if (!this->ReadLevelKChildData(&kData))
+    std::vector<int64_t> rows; // the first points of the cells the coarse octree lacks
+    for (int64_t n = 0; n < structure; ++n)
+    {
+      if (this->CoarseNode(n) < 0)
+      {
+        rows.push_back(firstPoint[n]);
+      }
+    }
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    std::vector<float> rowPoints(3 * rows.size()), rowNormals(3 * rows.size());
+    if (!this->ReadLevelKChildData(&kData) ||
+      !this->PickTuples(MPoints, 12, rows, rowPoints.data()) ||
+      !this->PickTuples(MNormals, 12, rows, rowNormals.data()))
     {
       return false;
     }
     const OctreeView& cv = this->CoarseView;
     for (int64_t n = structure - 1; n >= 0; --n)
     {
-      const int64_t c = this->HasCoarse ? this->CoarseNodeOf[n] : -1;
+      const int64_t c = this->CoarseNode(n);
       if (c >= 0)
       {
         std::copy(&cv.Vertex[3 * c], &cv.Vertex[3 * c] + 3, &vertex[3 * n]);
@@ -917,16 +916,12 @@ private:
       {
         // a point of the surface inside the cell, with its normal: where a corner goes when
         // the frustum culls the cell (its triangles leave the view towards the surface)
-        if (!this->ReadPoint(MPoints, firstPoint[n], &vertex[3 * n]) ||
-          !this->ReadPoint(MNormals, firstPoint[n], &axis[3 * n]))
-        {
-          return false;
-        }
+        const size_t r = std::lower_bound(rows.begin(), rows.end(), firstPoint[n]) - rows.begin();
+        std::copy(&rowPoints[3 * r], &rowPoints[3 * r] + 3, &vertex[3 * n]);
+        std::copy(&rowNormals[3 * r], &rowNormals[3 * r] + 3, &axis[3 * n]);
       }
       float errorK = 0;
       uint8_t boundary = 0;
-      diffuse[2 * n] = specular[2 * n] = std::numeric_limits<float>::max();
-      diffuse[2 * n + 1] = specular[2 * n + 1] = -std::numeric_limits<float>::max();
       for (int i = 0; i < 8; ++i)
       {
         if (!(mask[n] >> i & 1))
@@ -941,10 +936,6 @@ private:
           angle[n], float(std::acos(std::min(1.0, std::max(-1.0, dot))) + double(d.Angle)));
         errorK = std::max(errorK, d.ErrorK);
         boundary |= d.Flags & NodeBoundary;
-        diffuse[2 * n] = std::min(diffuse[2 * n], d.Diffuse[0]);
-        diffuse[2 * n + 1] = std::max(diffuse[2 * n + 1], d.Diffuse[1]);
-        specular[2 * n] = std::min(specular[2 * n], d.Specular[0]);
-        specular[2 * n + 1] = std::max(specular[2 * n + 1], d.Specular[1]);
       }
       angle[n] = std::min(angle[n], float(M_PI));
       const double diagonal = this->Agreed.RootEdge / double(1u << level[n]) * std::sqrt(3.0);
@@ -955,8 +946,6 @@ private:
       std::copy(&axis[3 * n], &axis[3 * n] + 3, mine.Axis);
       mine.Angle = angle[n];
       mine.ErrorK = errorK;
-      std::copy(&diffuse[2 * n], &diffuse[2 * n] + 2, mine.Diffuse);
-      std::copy(&specular[2 * n], &specular[2 * n] + 2, mine.Specular);
       mine.Flags = flags[n];
     }
     // the structure's clusters: the coarse octree's, or one per cell at its node's vertex
@@ -965,7 +954,7 @@ private:
     std::vector<float> clusterVertex(3 * clusters), clusterNormal(3 * clusters);
     for (int64_t n = 0; n < structure; ++n)
     {
-      const int64_t c = this->HasCoarse ? this->CoarseNodeOf[n] : -1;
+      const int64_t c = this->CoarseNode(n);
       const int64_t first = this->StructureFirstCluster[n];
       const int64_t count = this->StructureFirstCluster[n + 1] - first;
       for (int64_t i = 0; i < count; ++i)

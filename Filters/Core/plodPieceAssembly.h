@@ -23,8 +23,9 @@
  * inside them), the clusters' vertices (the vertex rule over the cut's planes) and normals, the
  * cluster tree from level k up, the node vertices and the topology flags and thickness. What
  * the children bound is added: the cone holds the level-k cones inside (SRCC eq. (2)), the
- * shape error adds the largest level-k error inside to the cut's own, the material ranges and
- * the boundary flag are the children's. A cell the cut's octree lacks (only triangles of finer
+ * shape error adds the largest level-k error inside to the cut's own, the boundary flag is the
+ * children's; the material ranges are uniform, as everywhere in a build from a PLY file's
+ * pieces (they carry no materials). A cell the cut's octree lacks (only triangles of finer
  * levels inside) keeps one cluster at its first surface point, a cone of pi, an error and a
  * thickness of its diagonal. The differences from the whole mesh's octree are named and
  * measured (docs/benchmarks.md, "The levels above the pieces"): above k, vertices, cones,

@@ -864,6 +864,15 @@ bool PLYPieces::Open(const std::string& path, const PiecesParameters& parameters
     s.RemoveDirectory();
     s.Pieces = 0;
   }
+  else if (!s.Agreed.NoTriangles && s.Agreed.FinestLevel >= 1 &&
+    s.Agreed.FinestLevel < parameters.OwnershipLevel)
+  {
+    // a model whose finest level is coarser than the cells shared out: split again at that
+    // level, so that every piece's cells are levels of its octree
+    PiecesParameters coarser = parameters;
+    coarser.OwnershipLevel = s.Agreed.FinestLevel;
+    return this->Open(path, coarser, why);
+  }
   return ok;
 }
 

@@ -100,7 +100,8 @@ public:
    * Reads `path` and splits it. False with the reason in `why` (may be null) on a file that
    * cannot be read or does not match its header, a temporary file that cannot be written (a
    * full disk, an unwritable folder), bad parameters or an abort; its temporary files are then
-   * removed. Never throws.
+   * removed. A model whose finest level is coarser than the ownership level is split again with
+   * its finest level as the ownership level (GetOwnershipLevel gives the one used). Never throws.
    */
   bool Open(const std::string& path, const PiecesParameters& parameters, std::string* why);
 
